@@ -1,0 +1,138 @@
+#pragma once
+// Everything the DGMPM operators need from one particle configuration: which particles each cell
+// holds, their shape function values, lumped nodal masses, pseudo-stiffness matrices and cell
+// materials (method.md 2). Built once for fixed particles, rebuilt after every move otherwise.
+
+#include "grid.hpp"
+#include "particles.hpp"
+#include "shape_functions.hpp"
+
+#include <Eigen/Core>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace dgmpm {
+
+struct ParticleOutsideGrid : std::runtime_error {
+  int particle;
+  ParticleOutsideGrid(int p, const std::string& what) : std::runtime_error(what), particle(p) {}
+};
+
+template <class Physics>
+class Discretisation {
+ public:
+  static constexpr int dim = Physics::dim;
+  static constexpr int npc = 1 << dim;  // nodes per cell
+  static constexpr int ncomp = Physics::n_comp;
+  using Material = typename Physics::Material;
+  using Shape = CellShape<dim>;
+  using Stiffness = Eigen::Matrix<double, npc, npc>;
+
+  // Rebuilds from the particles' current positions. Storage is reused: no allocation once the
+  // sizes are reached. Throws ParticleOutsideGrid.
+  void build(const Grid<dim>& grid, const Particles<dim, ncomp>& particles,
+             const std::vector<Material>& materials) {
+    const int nc = grid.num_cells(), np = particles.size();
+    particle_cell_.resize(np);
+    local_.resize(dim, np);
+    cell_begin_.assign(nc + 1, 0);
+    for (int p = 0; p < np; ++p) {
+      Eigen::Matrix<double, dim, 1> xi;
+      const int c = grid.locate(particles.position.col(p), xi);
+      if (c < 0) {
+        std::ostringstream s;
+        s << "particle " << particles.id[p] << " at x = " << particles.position.col(p).transpose()
+          << " is outside the grid";
+        throw ParticleOutsideGrid(particles.id[p], s.str());
+      }
+      particle_cell_[p] = c;
+      local_.col(p) = xi;
+      ++cell_begin_[c + 1];
+    }
+    for (int c = 0; c < nc; ++c) cell_begin_[c + 1] += cell_begin_[c];
+    entries_.resize(np);
+    shape_.resize(npc, np);
+    fill_.assign(cell_begin_.begin(), cell_begin_.end() - 1);
+    for (int p = 0; p < np; ++p) entries_[fill_[particle_cell_[p]]++] = p;
+
+    node_mass_.setZero(grid.num_nodes());
+    inv_mass_.setZero(grid.num_nodes());
+    node_source_.assign(grid.num_nodes(), -1);
+    stiffness_.resize(static_cast<std::size_t>(nc) * dim);
+    cell_material_.resize(nc);
+    occupied_.assign(nc, 0);
+
+    for (int c = 0; c < nc; ++c) {
+      for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
+      double cell_mass = 0.0;
+      for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
+        const int p = entries_[e];
+        const double m = particles.mass[p];
+        const auto s = Shape::values(local_.col(p));
+        const auto g = Shape::gradients(local_.col(p), grid.cell_size);
+        shape_.col(e) = s;
+        node_mass_.segment<npc>(c * npc) += m * s;
+        for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] += m * g.row(l).transpose() * s.transpose();
+        const Material& mp = materials[particles.material[p]];
+        cell_material_[c] = cell_mass == 0.0 ? mp : Physics::blend(cell_material_[c], cell_mass, mp, m);
+        cell_mass += m;
+      }
+      occupied_[c] = cell_mass > 0.0;
+      if (occupied_[c]) set_node_sources(c);
+    }
+  }
+
+  int num_cells() const { return static_cast<int>(occupied_.size()); }
+  int cell_begin(int c) const { return cell_begin_[c]; }
+  int cell_end(int c) const { return cell_begin_[c + 1]; }
+  int entry_particle(int e) const { return entries_[e]; }
+  auto entry_shape(int e) const { return shape_.col(e); }
+  int particle_cell(int p) const { return particle_cell_[p]; }
+  auto particle_local(int p) const { return local_.col(p); }
+  bool occupied(int c) const { return occupied_[c]; }
+  const Material& cell_material(int c) const { return cell_material_[c]; }
+  const Stiffness& stiffness(int c, int axis) const { return stiffness_[c * dim + axis]; }
+  double node_mass(int i) const { return node_mass_[i]; }
+  double inverse_mass(int i) const { return inv_mass_[i]; }
+  // i itself for a node with mass; for a massless node of an occupied cell, the node of the same
+  // cell that stands in for it; -1 for the nodes of a void cell.
+  int node_source(int i) const { return node_source_[i]; }
+  int num_particles() const { return static_cast<int>(entries_.size()); }
+
+ private:
+  // A massless node (every particle of its cell on the far side) takes no part in the update.
+  // Its value is that of the nearest node with mass in the same cell and its residual is added
+  // to that node: the limit of a vanishing nodal mass, which keeps the scheme conservative.
+  void set_node_sources(int c) {
+    for (int a = 0; a < npc; ++a) {
+      const int i = c * npc + a;
+      if (node_mass_[i] > 0.0) {
+        inv_mass_[i] = 1.0 / node_mass_[i];
+        node_source_[i] = i;
+      }
+    }
+    for (int a = 0; a < npc; ++a) {
+      const int i = c * npc + a;
+      if (node_source_[i] >= 0) continue;
+      int best = -1, best_distance = dim + 1;
+      for (int b = 0; b < npc; ++b) {
+        const int d = __builtin_popcount(static_cast<unsigned>(a ^ b));
+        if (node_mass_[c * npc + b] > 0.0 && d < best_distance) best = b, best_distance = d;
+      }
+      node_source_[i] = c * npc + best;
+    }
+  }
+
+  std::vector<int> particle_cell_;
+  Eigen::Matrix<double, dim, Eigen::Dynamic> local_;
+  std::vector<int> cell_begin_, fill_, entries_;
+  Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
+  Eigen::VectorXd node_mass_, inv_mass_;
+  std::vector<int> node_source_;
+  std::vector<Stiffness> stiffness_;
+  std::vector<Material> cell_material_;
+  std::vector<char> occupied_;
+};
+
+}  // namespace dgmpm

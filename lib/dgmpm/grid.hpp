@@ -1,0 +1,90 @@
+#pragma once
+// Fixed Cartesian grid of cells. Every cell owns its 2^Dim nodes (broken shape functions), so
+// node ids are cell * nodes_per_cell + local, local's bit l being the node's side along axis l.
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+
+namespace dgmpm {
+
+template <int Dim>
+struct Grid {
+  static_assert(Dim >= 1 && Dim <= 3, "dgmpm grids are 1D, 2D or 3D");
+  static constexpr int dim = Dim;
+  static constexpr int nodes_per_cell = 1 << Dim;
+  using Vec = Eigen::Matrix<double, Dim, 1>;
+  using Index = std::array<int, Dim>;
+
+  Vec origin = Vec::Zero();
+  Vec cell_size = Vec::Ones();
+  Index cells{};
+  std::array<bool, Dim> periodic{};
+
+  int num_cells() const {
+    int n = 1;
+    for (int l = 0; l < Dim; ++l) n *= cells[l];
+    return n;
+  }
+  int num_nodes() const { return num_cells() * nodes_per_cell; }
+  double cell_volume() const { return cell_size.prod(); }
+  double length(int axis) const { return cells[axis] * cell_size[axis]; }
+  double upper(int axis) const { return origin[axis] + length(axis); }
+
+  Index unflatten(int c) const {
+    Index k{};
+    for (int l = 0; l < Dim; ++l) {
+      k[l] = c % cells[l];
+      c /= cells[l];
+    }
+    return k;
+  }
+  int flatten(const Index& k) const {
+    int c = 0;
+    for (int l = Dim - 1; l >= 0; --l) c = c * cells[l] + k[l];
+    return c;
+  }
+
+  // Cell across the face of cell c normal to `axis` on `side` (0: minus, 1: plus); -1 on a
+  // non-periodic boundary.
+  int neighbour(int c, int axis, int side) const {
+    Index k = unflatten(c);
+    k[axis] += side ? 1 : -1;
+    if (k[axis] < 0 || k[axis] >= cells[axis]) {
+      if (!periodic[axis]) return -1;
+      k[axis] = (k[axis] + cells[axis]) % cells[axis];
+    }
+    return flatten(k);
+  }
+
+  // Lower corner of cell c.
+  Vec cell_origin(int c) const {
+    const Index k = unflatten(c);
+    Vec x;
+    for (int l = 0; l < Dim; ++l) x[l] = origin[l] + k[l] * cell_size[l];
+    return x;
+  }
+
+  // Cell holding x and the local coordinates xi in [0, 1]^Dim; -1 when x is outside a
+  // non-periodic grid. A point on a face belongs to the cell on its plus side, except on the
+  // grid's upper boundary, which belongs to the last cell (xi = 1). Periodic axes wrap x.
+  int locate(const Vec& x, Vec& xi) const {
+    Index k{};
+    for (int l = 0; l < Dim; ++l) {
+      double s = (x[l] - origin[l]) / cell_size[l];
+      if (periodic[l]) {
+        s -= std::floor(s / cells[l]) * cells[l];
+        if (s >= cells[l]) s = 0.0;  // round-off of the wrap
+      } else if (!(s >= 0.0 && s <= cells[l])) {
+        return -1;  // also catches NaN
+      }
+      int kl = static_cast<int>(std::floor(s));
+      if (kl == cells[l]) kl = cells[l] - 1;
+      k[l] = kl;
+      xi[l] = s - kl;
+    }
+    return flatten(k);
+  }
+};
+
+}  // namespace dgmpm

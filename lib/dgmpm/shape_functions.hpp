@@ -1,0 +1,41 @@
+#pragma once
+// Multilinear (linear in 1D, bilinear Q1 in 2D) shape functions of one cell, in local
+// coordinates xi in [0, 1]^Dim. Node a's side along axis l is bit l of a.
+
+#include <Eigen/Core>
+
+namespace dgmpm {
+
+template <int Dim>
+struct CellShape {
+  static constexpr int nodes = 1 << Dim;
+  using Vec = Eigen::Matrix<double, Dim, 1>;
+  using Values = Eigen::Matrix<double, nodes, 1>;
+  using Gradients = Eigen::Matrix<double, Dim, nodes>;  // column a: grad S_a in physical units
+
+  static double factor(double xi, int side) { return side ? xi : 1.0 - xi; }
+
+  static Values values(const Vec& xi) {
+    Values s;
+    for (int a = 0; a < nodes; ++a) {
+      double v = 1.0;
+      for (int l = 0; l < Dim; ++l) v *= factor(xi[l], (a >> l) & 1);
+      s[a] = v;
+    }
+    return s;
+  }
+
+  static Gradients gradients(const Vec& xi, const Vec& h) {
+    Gradients g;
+    for (int a = 0; a < nodes; ++a)
+      for (int l = 0; l < Dim; ++l) {
+        double v = (((a >> l) & 1) ? 1.0 : -1.0) / h[l];
+        for (int k = 0; k < Dim; ++k)
+          if (k != l) v *= factor(xi[k], (a >> k) & 1);
+        g(l, a) = v;
+      }
+    return g;
+  }
+};
+
+}  // namespace dgmpm

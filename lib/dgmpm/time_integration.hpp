@@ -1,0 +1,50 @@
+#pragma once
+// Explicit integrators on the nodal values (method.md 4). Each owns only the buffers it needs.
+// RK2 is Heun's method; the intermediate stage stays on the grid.
+
+#include "dg_operator.hpp"
+
+namespace dgmpm {
+
+template <class Physics>
+class ForwardEuler {
+ public:
+  using Op = DGOperator<Physics>;
+  static constexpr const char* name = "euler";
+
+  void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
+            double dt) {
+    op.project(qp, mass, q_);
+    op.residual(q_, t, r_);
+    op.update(q_, r_, dt);
+    op.interpolate(q_, qp);
+  }
+
+ private:
+  typename Op::NodalField q_, r_;
+};
+
+template <class Physics>
+class HeunRK2 {
+ public:
+  using Op = DGOperator<Physics>;
+  static constexpr const char* name = "rk2";
+
+  // q1 = q0 + dt L(q0, t); q^{n+1} = (q0 + q1 + dt L(q1, t + dt)) / 2.
+  void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
+            double dt) {
+    op.project(qp, mass, q0_);
+    op.residual(q0_, t, r_);
+    q1_ = q0_;
+    op.update(q1_, r_, dt);
+    op.residual(q1_, t + dt, r_);
+    op.update(q1_, r_, dt);
+    q0_ = 0.5 * (q0_ + q1_);
+    op.interpolate(q0_, qp);
+  }
+
+ private:
+  typename Op::NodalField q0_, q1_, r_;
+};
+
+}  // namespace dgmpm

@@ -1,0 +1,90 @@
+#pragma once
+// A scene: everything a run needs, read from a JSON file (README.md, "Scene files").
+// parse_scene validates the whole document before any step and throws SceneError whose message
+// names the key path, the value found and what is allowed.
+
+#include <dgmpm/boundary.hpp>
+
+#include <nlohmann/json_fwd.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dgmpm::scene {
+
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class Method { dgmpm, mpm_usl, mpm_usf, mpm_musl };
+enum class MpmUpdate { flip, pic };
+enum class Integrator { euler, rk2 };
+enum class Criterion { l2, monotone };
+
+struct GridSpec {
+  std::vector<double> origin, cell_size;  // one entry per dimension
+  std::vector<int> cells;
+  bool periodic = false;  // every axis
+};
+
+struct MaterialSpec {
+  std::string name;
+  std::string model = "linear_elastic";
+  double young = 0, poisson = 0, density = 0;
+};
+
+struct BodySpec {
+  int material = 0;  // index into Scene::materials
+  std::vector<double> box_min, box_max;
+  // Local coordinates in [0, 1] of the particles of one cell, per axis (the layout is the
+  // tensor product). From "particles_per_cell" N: (k + 1/2) / N.
+  std::vector<double> positions_in_cell;
+  std::vector<double> masses_in_cell;  // relative weights, one per position; equal by default
+  std::vector<double> velocity;        // dimension entries
+  std::vector<double> stress;          // 1D: [sigma]
+};
+
+struct BoundarySpec {
+  BoundaryKind kind = BoundaryKind::free;
+  std::vector<double> times;   // one entry for a constant value
+  std::vector<double> values;  // same length as times
+};
+
+struct TimeSpec {
+  double end = 0;
+  Integrator integrator = Integrator::euler;
+  bool courant_auto = false;
+  double courant = 1.0;  // when not auto
+  Criterion criterion = Criterion::l2;
+  double safety = 1.0;   // auto only
+};
+
+struct OutputSpec {
+  std::string directory;      // empty: nothing written
+  std::vector<double> times;  // particle fields written at these times (sorted)
+};
+
+struct Scene {
+  int dimension = 1;
+  Method method = Method::dgmpm;
+  MpmUpdate update = MpmUpdate::flip;
+  GridSpec grid;
+  std::vector<MaterialSpec> materials;
+  std::vector<BodySpec> bodies;
+  BoundarySpec boundaries[3][2];  // [axis][side]: xmin, xmax, ymin, ...
+  TimeSpec time;
+  bool particles_move = false;
+  std::optional<std::string> exact;  // "bar"
+  OutputSpec output;
+  std::string source;  // file name, for messages
+};
+
+Scene parse_scene(const nlohmann::json& document, const std::string& source = "scene");
+Scene load_scene(const std::string& path);  // SceneError also for unreadable or invalid JSON
+
+const char* to_string(Method);
+const char* to_string(Integrator);
+const char* to_string(Criterion);
+
+}  // namespace dgmpm::scene
