@@ -1,0 +1,14 @@
+// dgmpm: the user's entry point. Each subcommand registers itself from its own part of the tree.
+#include "bench/bench_command.hpp"
+#include "stability/courant_command.hpp"
+
+#include <CLI/CLI.hpp>
+
+int main(int argc, char** argv) {
+  CLI::App app{"dgmpm: Discontinuous Galerkin Material Point Method solver and stability analysis"};
+  app.require_subcommand(1);
+  dgmpm::stability::add_courant_command(app);
+  dgmpm::bench::add_bench_command(app);
+  CLI11_PARSE(app, argc, argv);
+  return 0;
+}
