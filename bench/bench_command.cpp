@@ -1,5 +1,27 @@
 #include "bench/bench_command.hpp"
 
+#include "bench/solver_bench.hpp"
+
+#include <iostream>
+#include <memory>
+
 namespace dgmpm::bench {
-void add_bench_command(CLI::App& app) { app.add_subcommand("bench", "Benchmarks (not yet available)"); }
+
+namespace {
+struct BenchArguments {
+  std::vector<int> particles{100000, 1000000};
+  double seconds = 2.0;
+};
+}  // namespace
+
+void add_bench_command(CLI::App& app) {
+  auto args = std::make_shared<BenchArguments>();
+  CLI::App* cmd = app.add_subcommand("bench", "Benchmarks: solver throughput (speed is measured here, not in tests)");
+  cmd->add_option("--particles", args->particles, "Particle counts for the solver benchmark")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--seconds", args->seconds, "Time spent per case")->check(CLI::PositiveNumber);
+  cmd->callback([args] { run_solver_benchmark(std::cout, args->particles, args->seconds); });
+}
+
 }  // namespace dgmpm::bench

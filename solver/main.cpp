@@ -1,5 +1,6 @@
 // dgmpm: the user's entry point. Each subcommand registers itself from its own part of the tree.
 #include "bench/bench_command.hpp"
+#include "solver/run_command.hpp"
 #include "stability/courant_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -7,6 +8,7 @@
 int main(int argc, char** argv) {
   CLI::App app{"dgmpm: Discontinuous Galerkin Material Point Method solver and stability analysis"};
   app.require_subcommand(1);
+  dgmpm::add_run_command(app);
   dgmpm::stability::add_courant_command(app);
   dgmpm::bench::add_bench_command(app);
   CLI11_PARSE(app, argc, argv);

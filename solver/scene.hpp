@@ -5,6 +5,8 @@
 
 #include <dgmpm/boundary.hpp>
 
+#include <array>
+#include <cstddef>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <stdexcept>
@@ -84,7 +86,22 @@ Scene parse_scene(const nlohmann::json& document, const std::string& source = "s
 Scene load_scene(const std::string& path);  // SceneError also for unreadable or invalid JSON
 
 const char* to_string(Method);
+const char* to_string(MpmUpdate);
 const char* to_string(Integrator);
 const char* to_string(Criterion);
+
+// One particle a body generates. Its position on each axis is exactly
+// origin + (cell + positions_in_cell[local]) * cell_size, evaluated in that order, and the body's
+// box claims it when box_min <= x < box_max on every axis. Validation uses the same rule, so a
+// parsed scene's bodies each hold at least one seed and no seed lies in two boxes.
+struct Seed {
+  std::array<int, 3> cell{};   // per axis; unused axes 0
+  std::array<int, 3> local{};  // per axis, index into positions_in_cell and masses_in_cell
+  std::array<double, 3> x{};   // per axis; unused axes 0
+};
+
+// The seeds of scene.bodies[body]. Along each axis they go cell by cell and, inside a cell, in the
+// order of positions_in_cell; the seeds are the tensor product of the axes, the first axis fastest.
+std::vector<Seed> body_seeds(const Scene& scene, std::size_t body);
 
 }  // namespace dgmpm::scene

@@ -28,6 +28,7 @@ class Discretisation {
   using Material = typename Physics::Material;
   using Shape = CellShape<dim>;
   using Stiffness = Eigen::Matrix<double, npc, npc>;
+  static constexpr double massless_share = 1e-10;
 
   // Rebuilds from the particles' current positions. Storage is reused: no allocation once the
   // sizes are reached. Throws ParticleOutsideGrid.
@@ -79,7 +80,7 @@ class Discretisation {
         cell_mass += m;
       }
       occupied_[c] = cell_mass > 0.0;
-      if (occupied_[c]) set_node_sources(c);
+      if (occupied_[c]) set_node_sources(c, cell_mass);
     }
   }
 
@@ -103,11 +104,13 @@ class Discretisation {
  private:
   // A massless node (every particle of its cell on the far side) takes no part in the update.
   // Its value is that of the nearest node with mass in the same cell and its residual is added
-  // to that node: the limit of a vanishing nodal mass, which keeps the scheme conservative.
-  void set_node_sources(int c) {
+  // to that node: for Euler the limit of a vanishing nodal mass; conservative in any case. A node
+  // holding less than `massless_share` of its cell's mass counts as massless: dividing by it
+  // would amplify round-off by the inverse of that share.
+  void set_node_sources(int c, double cell_mass) {
     for (int a = 0; a < npc; ++a) {
       const int i = c * npc + a;
-      if (node_mass_[i] > 0.0) {
+      if (node_mass_[i] > massless_share * cell_mass) {
         inv_mass_[i] = 1.0 / node_mass_[i];
         node_source_[i] = i;
       }
@@ -118,7 +121,7 @@ class Discretisation {
       int best = -1, best_distance = dim + 1;
       for (int b = 0; b < npc; ++b) {
         const int d = __builtin_popcount(static_cast<unsigned>(a ^ b));
-        if (node_mass_[c * npc + b] > 0.0 && d < best_distance) best = b, best_distance = d;
+        if (inv_mass_[c * npc + b] > 0.0 && d < best_distance) best = b, best_distance = d;
       }
       node_source_[i] = c * npc + best;
     }

@@ -1,0 +1,284 @@
+#pragma once
+// Classical MPM baseline (Sulsky, Zhou, Schreyer 1995; method.md 7) on the same grid, particles
+// and boundaries as DGMPM: shared (continuous) nodes, multilinear shape functions, lumped mass,
+// USL / USF / MUSL orderings with a FLIP or PIC particle velocity update.
+// Node numbering, transfers and boundary conditions are dimension-generic; the constitutive part
+// (particle stress and velocity layout, internal force, stress update) is the 1D elastic bar.
+
+#include <dgmpm/boundary.hpp>
+#include <dgmpm/discretisation.hpp>
+#include <dgmpm/grid.hpp>
+#include <dgmpm/particles.hpp>
+#include <dgmpm/physics/elastic_bar.hpp>
+#include <dgmpm/shape_functions.hpp>
+
+#include <Eigen/Core>
+#include <array>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+namespace dgmpm {
+
+enum class MpmVariant { usl, usf, musl };
+enum class MpmVelocityUpdate { flip, pic };
+
+inline const char* to_string(MpmVariant v) {
+  switch (v) {
+  case MpmVariant::usl:
+    return "usl";
+  case MpmVariant::usf:
+    return "usf";
+  case MpmVariant::musl:
+    return "musl";
+  }
+  return "?";
+}
+
+inline const char* to_string(MpmVelocityUpdate u) {
+  return u == MpmVelocityUpdate::flip ? "flip" : "pic";
+}
+
+template <int Dim>
+class Mpm {
+public:
+  static constexpr int npc = 1 << Dim; // nodes of a cell
+  static constexpr int ncomp = ElasticBar::n_comp;
+  using Material = ElasticBar::Material;
+  using Vec = Eigen::Matrix<double, Dim, 1>;
+  using ParticleSet = Particles<Dim, ncomp>;
+  using NodalVectors = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
+
+  Mpm(const Grid<Dim>& grid, const Boundaries<Dim>& bc, std::vector<Material> materials,
+      MpmVariant variant, MpmVelocityUpdate update)
+      : grid_(grid), bc_(bc), materials_(std::move(materials)), variant_(variant), update_(update) {
+    num_nodes_ = 1;
+    for (int l = 0; l < Dim; ++l) {
+      nodes_[l] = grid_.cells[l] + (grid_.periodic[l] ? 0 : 1);
+      stride_[l] = num_nodes_;
+      num_nodes_ *= nodes_[l];
+    }
+  }
+
+  const Grid<Dim>& grid() const { return grid_; }
+  MpmVariant variant() const { return variant_; }
+  MpmVelocityUpdate velocity_update() const { return update_; }
+  int num_nodes() const { return num_nodes_; }
+  int nodes_along(int axis) const { return nodes_[axis]; }
+
+  // Node `a` (bit l: side along axis l) of the cell with multi-index k; periodic axes wrap.
+  int node(const typename Grid<Dim>::Index& k, int a) const {
+    int i = 0;
+    for (int l = 0; l < Dim; ++l) {
+      int kl = k[l] + ((a >> l) & 1);
+      if (kl == nodes_[l]) kl = 0; // only reachable on a periodic axis
+      i += kl * stride_[l];
+    }
+    return i;
+  }
+
+  // Nodal fields of the last step, for diagnostics and tests: lumped mass, velocity at t^n and
+  // at t^{n+1} (after boundary conditions).
+  const Eigen::VectorXd& node_mass() const { return mass_; }
+  const NodalVectors& node_velocity_old() const { return vel_old_; }
+  const NodalVectors& node_velocity_new() const { return vel_new_; }
+
+  // One step from t to t + dt. Allocation-free once the particle count is reached. Throws
+  // ParticleOutsideGrid for a particle outside the grid, before any change at the start of the
+  // step, or after the move that took it out.
+  void step(ParticleSet& particles, double t, double dt, bool move_particles) {
+    locate(particles);
+    project_mass_momentum(particles, vel_old_);
+    apply_velocity_bc(vel_old_, t);
+    if (variant_ == MpmVariant::usf) update_stress(particles, vel_old_, dt);
+
+    force_.setZero(Dim, num_nodes_);
+    add_internal_force(particles);
+    add_traction(t);
+    vel_new_.resize(Dim, num_nodes_);
+    for (int i = 0; i < num_nodes_; ++i)
+      vel_new_.col(i) =
+          mass_[i] > 0.0 ? Vec(vel_old_.col(i) + (dt / mass_[i]) * force_.col(i)) : Vec::Zero();
+    apply_velocity_bc(vel_new_, t + dt);
+    update_particle_velocity(particles);
+
+    const NodalVectors* v = &vel_new_;
+    if (variant_ == MpmVariant::musl) {
+      project_mass_momentum(particles, vel_musl_);
+      apply_velocity_bc(vel_musl_, t + dt);
+      v = &vel_musl_;
+    }
+    if (variant_ != MpmVariant::usf) update_stress(particles, *v, dt);
+    if (move_particles) move(particles, *v, dt);
+  }
+
+private:
+  // --- 1D elastic bar: particle state (sigma / rho, v), sigma_t = E v_x -------------------------
+  static Vec particle_velocity(const ParticleSet& ps, int p) {
+    static_assert(Dim == 1, "the MPM constitutive part is the 1D bar; 2D needs its own state");
+    return Vec(ps.state(ElasticBar::velocity, p));
+  }
+  static void set_particle_velocity(ParticleSet& ps, int p, const Vec& v) {
+    ps.state(ElasticBar::velocity, p) = v[0];
+  }
+  // V_p sigma_p, the weight of grad S_i in the internal force.
+  double volume_stress(const ParticleSet& ps, int p) const {
+    const Material& m = materials_[ps.material[p]];
+    return ps.volume[p] * m.density * ps.state(ElasticBar::stress, p);
+  }
+  // Specific form of sigma += dt E dv/dx: s += dt c^2 dv/dx.
+  void update_stress(ParticleSet& ps, const NodalVectors& v, double dt) const {
+    const int np = ps.size();
+    for (int p = 0; p < np; ++p) {
+      double rate = 0.0;
+      for (int a = 0; a < npc; ++a) rate += v(0, node_(a, p)) * grad_(a * Dim, p);
+      const Material& m = materials_[ps.material[p]];
+      ps.state(ElasticBar::stress, p) += dt * (m.young / m.density) * rate;
+    }
+  }
+  void add_internal_force(const ParticleSet& ps) {
+    const int np = ps.size();
+    for (int p = 0; p < np; ++p) {
+      const double vs = volume_stress(ps, p);
+      for (int a = 0; a < npc; ++a) force_(0, node_(a, p)) -= vs * grad_(a * Dim, p);
+    }
+  }
+
+  // --- generic part ------------------------------------------------------------------------------
+  void throw_outside(const ParticleSet& ps, int p) const {
+    std::ostringstream s;
+    s << "particle " << ps.id[p] << " at x = " << ps.position.col(p).transpose()
+      << " is outside the grid";
+    throw ParticleOutsideGrid(ps.id[p], s.str());
+  }
+
+  // Nodes, shape values and gradients of every particle.
+  void locate(const ParticleSet& ps) {
+    const int np = ps.size();
+    node_.resize(npc, np);
+    shape_.resize(npc, np);
+    grad_.resize(npc * Dim, np);
+    Vec xi;
+    for (int p = 0; p < np; ++p) {
+      const int c = grid_.locate(ps.position.col(p), xi);
+      if (c < 0) throw_outside(ps, p);
+      const auto k = grid_.unflatten(c);
+      for (int a = 0; a < npc; ++a) node_(a, p) = node(k, a);
+      shape_.col(p) = CellShape<Dim>::values(xi);
+      const auto g = CellShape<Dim>::gradients(xi, grid_.cell_size);
+      for (int a = 0; a < npc; ++a) grad_.template block<Dim, 1>(a * Dim, p) = g.col(a);
+    }
+  }
+
+  // Lumped mass and nodal velocity p_i / m_i; zero on massless nodes.
+  void project_mass_momentum(const ParticleSet& ps, NodalVectors& v) {
+    mass_.setZero(num_nodes_);
+    v.setZero(Dim, num_nodes_);
+    const int np = ps.size();
+    for (int p = 0; p < np; ++p) {
+      const Vec vp = particle_velocity(ps, p);
+      for (int a = 0; a < npc; ++a) {
+        const int i = node_(a, p);
+        const double w = shape_(a, p) * ps.mass[p];
+        mass_[i] += w;
+        v.col(i) += w * vp;
+      }
+    }
+    for (int i = 0; i < num_nodes_; ++i)
+      if (mass_[i] > 0.0) v.col(i) /= mass_[i];
+  }
+
+  void update_particle_velocity(ParticleSet& ps) const {
+    const int np = ps.size();
+    for (int p = 0; p < np; ++p) {
+      Vec v = update_ == MpmVelocityUpdate::flip ? particle_velocity(ps, p) : Vec::Zero();
+      for (int a = 0; a < npc; ++a) {
+        const int i = node_(a, p);
+        v += update_ == MpmVelocityUpdate::flip
+                 ? Vec(shape_(a, p) * (vel_new_.col(i) - vel_old_.col(i)))
+                 : Vec(shape_(a, p) * vel_new_.col(i));
+      }
+      set_particle_velocity(ps, p, v);
+    }
+  }
+
+  void move(ParticleSet& ps, const NodalVectors& v, double dt) const {
+    const int np = ps.size();
+    Vec xi;
+    for (int p = 0; p < np; ++p) {
+      Vec vp = Vec::Zero();
+      for (int a = 0; a < npc; ++a) vp += shape_(a, p) * v.col(node_(a, p));
+      ps.position.col(p) += dt * vp;
+    }
+    for (int p = 0; p < np; ++p)
+      if (grid_.locate(ps.position.col(p), xi) < 0) throw_outside(ps, p);
+  }
+
+  // Calls f(node, weight) for the nodes of the grid face normal to `axis` on `side`; weight is
+  // the integral of the node's shape function over the face (1 in 1D).
+  template <class F>
+  void for_each_face_node(int axis, int side, F&& f) const {
+    int count = 1;
+    for (int l = 0; l < Dim; ++l)
+      if (l != axis) count *= nodes_[l];
+    for (int n = 0; n < count; ++n) {
+      int rest = n, i = (side ? nodes_[axis] - 1 : 0) * stride_[axis];
+      double w = 1.0;
+      for (int l = 0; l < Dim; ++l) {
+        if (l == axis) continue;
+        const int kl = rest % nodes_[l];
+        rest /= nodes_[l];
+        i += kl * stride_[l];
+        const bool edge = !grid_.periodic[l] && (kl == 0 || kl == nodes_[l] - 1);
+        w *= edge ? 0.5 * grid_.cell_size[l] : grid_.cell_size[l];
+      }
+      f(i, w);
+    }
+  }
+
+  // Fixed and velocity faces: the nodal velocity is the prescribed one. Imposed on v^n and on
+  // v^{n+1}, so the nodal acceleration there is that of the prescription (zero when fixed).
+  void apply_velocity_bc(NodalVectors& v, double t) const {
+    for (int l = 0; l < Dim; ++l) {
+      if (grid_.periodic[l]) continue;
+      for (int side = 0; side < 2; ++side) {
+        const auto& bc = bc_[l][side];
+        if (bc.kind != BoundaryKind::fixed && bc.kind != BoundaryKind::velocity) continue;
+        const Vec value = bc.kind == BoundaryKind::fixed ? Vec::Zero() : Vec(bc.value(t));
+        for_each_face_node(l, side, [&](int i, double) { v.col(i) = value; });
+      }
+    }
+  }
+
+  // A prescribed stress sigma_d . e_axis on a face (the 1D sigma_d) acts on the body as
+  // sigma_d n: + at the upper face, - at the lower one. Massless nodes carry no material.
+  void add_traction(double t) {
+    for (int l = 0; l < Dim; ++l) {
+      if (grid_.periodic[l]) continue;
+      for (int side = 0; side < 2; ++side) {
+        const auto& bc = bc_[l][side];
+        if (bc.kind != BoundaryKind::traction) continue;
+        const Vec value = (side ? 1.0 : -1.0) * Vec(bc.value(t));
+        for_each_face_node(l, side, [&](int i, double w) {
+          if (mass_[i] > 0.0) force_.col(i) += w * value;
+        });
+      }
+    }
+  }
+
+  Grid<Dim> grid_;
+  Boundaries<Dim> bc_;
+  std::vector<Material> materials_;
+  MpmVariant variant_;
+  MpmVelocityUpdate update_;
+  std::array<int, Dim> nodes_{}, stride_{};
+  int num_nodes_ = 0;
+
+  Eigen::Matrix<int, npc, Eigen::Dynamic> node_;
+  Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
+  Eigen::Matrix<double, npc * Dim, Eigen::Dynamic> grad_; // row a * Dim + l: dS_a / dx_l
+  Eigen::VectorXd mass_;
+  NodalVectors vel_old_, vel_new_, vel_musl_, force_;
+};
+
+} // namespace dgmpm
