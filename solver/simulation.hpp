@@ -35,8 +35,9 @@ struct RunOptions {
 };
 
 // Errors ||u_h - u||/||u|| with volume-weighted L1 and L2 norms and the max norm over
-// particles. When the exact field vanishes at that time, the norms of `fallback` (typically the
-// exact field at t = 0) normalise instead; when that vanishes too, errors are absolute.
+// particles. When the exact field vanishes at that time, the norms of `fallback` normalise
+// instead (the run uses the other field times or over the impedance); when that vanishes too,
+// errors are absolute.
 ErrorNorms relative_errors(const Eigen::VectorXd& computed, const Eigen::VectorXd& exact,
                            const Eigen::VectorXd& volume, const Eigen::VectorXd& fallback);
 
@@ -67,7 +68,8 @@ class Simulation {
   Eigen::VectorXd stress() const;
   Eigen::VectorXd velocity() const;
   double energy() const;
-  // Requires an exact solution.
+  // Requires an exact solution. Evaluated at the particles' initial positions: with moving
+  // particles (small strain) fields are compared in the material coordinate.
   Eigen::VectorXd exact_stress(double t) const;
   Eigen::VectorXd exact_velocity(double t) const;
 
@@ -81,6 +83,7 @@ class Simulation {
   scene::Scene scene_;
   BarProblem problem_;
   std::unique_ptr<Stepper> stepper_;
+  Eigen::Matrix<double, 1, Eigen::Dynamic> reference_position_;  // initial positions
   double time_ = 0, dt_ = 0;
   long steps_ = 0;
 };
