@@ -145,13 +145,6 @@ private:
   }
 
   // --- generic part ------------------------------------------------------------------------------
-  void throw_outside(const ParticleSet& ps, int p) const {
-    std::ostringstream s;
-    s << "particle " << ps.id[p] << " at x = " << ps.position.col(p).transpose()
-      << " is outside the grid";
-    throw ParticleOutsideGrid(ps.id[p], s.str());
-  }
-
   // Nodes, shape values and gradients of every particle.
   void locate(const ParticleSet& ps) {
     const int np = ps.size();
@@ -161,7 +154,7 @@ private:
     Vec xi;
     for (int p = 0; p < np; ++p) {
       const int c = grid_.locate(ps.position.col(p), xi);
-      if (c < 0) throw_outside(ps, p);
+      if (c < 0) throw_outside_grid(ps, p);
       const auto k = grid_.unflatten(c);
       for (int a = 0; a < npc; ++a) node_(a, p) = node(k, a);
       shape_.col(p) = CellShape<Dim>::values(xi);
@@ -188,17 +181,17 @@ private:
       if (mass_[i] > 0.0) v.col(i) /= mass_[i];
   }
 
+  // FLIP adds the interpolated nodal velocity increment; PIC takes the interpolated velocity.
   void update_particle_velocity(ParticleSet& ps) const {
+    const bool flip = update_ == MpmVelocityUpdate::flip;
     const int np = ps.size();
     for (int p = 0; p < np; ++p) {
-      Vec v = update_ == MpmVelocityUpdate::flip ? particle_velocity(ps, p) : Vec::Zero();
+      Vec v = Vec::Zero();
       for (int a = 0; a < npc; ++a) {
         const int i = node_(a, p);
-        v += update_ == MpmVelocityUpdate::flip
-                 ? Vec(shape_(a, p) * (vel_new_.col(i) - vel_old_.col(i)))
-                 : Vec(shape_(a, p) * vel_new_.col(i));
+        v += shape_(a, p) * (flip ? Vec(vel_new_.col(i) - vel_old_.col(i)) : Vec(vel_new_.col(i)));
       }
-      set_particle_velocity(ps, p, v);
+      set_particle_velocity(ps, p, flip ? Vec(particle_velocity(ps, p) + v) : v);
     }
   }
 
@@ -211,7 +204,7 @@ private:
       ps.position.col(p) += dt * vp;
     }
     for (int p = 0; p < np; ++p)
-      if (grid_.locate(ps.position.col(p), xi) < 0) throw_outside(ps, p);
+      if (grid_.locate(ps.position.col(p), xi) < 0) throw_outside_grid(ps, p);
   }
 
   // Calls f(node, weight) for the nodes of the grid face normal to `axis` on `side`; weight is

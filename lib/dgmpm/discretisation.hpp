@@ -19,6 +19,15 @@ struct ParticleOutsideGrid : std::runtime_error {
   ParticleOutsideGrid(int p, const std::string& what) : std::runtime_error(what), particle(p) {}
 };
 
+// Throws ParticleOutsideGrid for particle p, naming it and its position.
+template <int Dim, int NComp>
+[[noreturn]] void throw_outside_grid(const Particles<Dim, NComp>& particles, int p) {
+  std::ostringstream s;
+  s << "particle " << particles.id[p] << " at x = " << particles.position.col(p).transpose()
+    << " is outside the grid";
+  throw ParticleOutsideGrid(particles.id[p], s.str());
+}
+
 template <class Physics>
 class Discretisation {
  public:
@@ -41,12 +50,7 @@ class Discretisation {
     for (int p = 0; p < np; ++p) {
       Eigen::Matrix<double, dim, 1> xi;
       const int c = grid.locate(particles.position.col(p), xi);
-      if (c < 0) {
-        std::ostringstream s;
-        s << "particle " << particles.id[p] << " at x = " << particles.position.col(p).transpose()
-          << " is outside the grid";
-        throw ParticleOutsideGrid(particles.id[p], s.str());
-      }
+      if (c < 0) throw_outside_grid(particles, p);
       particle_cell_[p] = c;
       local_.col(p) = xi;
       ++cell_begin_[c + 1];
