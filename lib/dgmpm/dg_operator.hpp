@@ -12,6 +12,8 @@
 #include "grid.hpp"
 
 #include <Eigen/Core>
+#include <array>
+#include <vector>
 
 namespace dgmpm {
 
@@ -29,6 +31,10 @@ class DGOperator {
   DGOperator(const Grid<dim>& grid, const Disc& disc, const Boundaries<dim>& boundaries)
       : grid_(grid), disc_(disc), bc_(boundaries) {
     for (int l = 0; l < dim; ++l) {
+      for (int side = 0; side < 2; ++side) {
+        neighbour_[l][side].resize(grid.num_cells());
+        for (int c = 0; c < grid.num_cells(); ++c) neighbour_[l][side][c] = grid.neighbour(c, l, side);
+      }
       face_weight_[l] = 1.0;
       for (int k = 0; k < dim; ++k)
         if (k != l) face_weight_[l] *= grid.cell_size[k];
@@ -73,10 +79,11 @@ class DGOperator {
   // q += dt M^-1 r. A massless node's residual goes to the node standing in for it (r is
   // scratch and is modified), and it copies that node's value after the update.
   void update(NodalField& q, NodalField& r, double dt) const {
-    for (int i = 0; i < num_nodes(); ++i) {
-      const int s = disc_.node_source(i);
-      if (s >= 0 && s != i) r.col(s) += r.col(i);
-    }
+    if (disc_.has_massless_nodes())
+      for (int i = 0; i < num_nodes(); ++i) {
+        const int s = disc_.node_source(i);
+        if (s >= 0 && s != i) r.col(s) += r.col(i);
+      }
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
       for (int a = 0; a < npc; ++a) {
@@ -112,12 +119,10 @@ class DGOperator {
     State fm, fp;
     State ghost_value;
     for (int c = 0; c < disc_.num_cells(); ++c) {
-      const int n = grid_.neighbour(c, axis, 1);
+      const int n = neighbour_[axis][1][c];
       const bool here = disc_.occupied(c);
       const bool there = n >= 0 && disc_.occupied(n);
-      if (!here && !there) {
-        // Only a lower grid boundary in front of an occupied cell c remains to be handled below.
-      } else {
+      if (here || there) {
         for (int a = 0; a < npc; ++a) {
           if (!(a & bit)) continue;
           const int im = c * npc + a;              // plus-side node of cell c
@@ -142,7 +147,7 @@ class DGOperator {
         }
       }
       // Lower grid boundary of an occupied cell.
-      if (here && grid_.neighbour(c, axis, 0) < 0) {
+      if (here && neighbour_[axis][0][c] < 0) {
         const auto& mat = disc_.cell_material(c);
         for (int a = 0; a < npc; ++a) {
           if (a & bit) continue;
@@ -159,6 +164,7 @@ class DGOperator {
   const Disc& disc_;
   const Boundaries<dim>& bc_;
   Eigen::Matrix<double, dim, 1> face_weight_;
+  std::array<std::array<std::vector<int>, 2>, dim> neighbour_;  // grid.neighbour, tabulated
 };
 
 }  // namespace dgmpm

@@ -67,6 +67,7 @@ class Discretisation {
     stiffness_.resize(static_cast<std::size_t>(nc) * dim);
     cell_material_.resize(nc);
     occupied_.assign(nc, 0);
+    has_massless_ = false;
 
     for (int c = 0; c < nc; ++c) {
       for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
@@ -103,6 +104,8 @@ class Discretisation {
   // i itself for a node with mass; for a massless node of an occupied cell, the node of the same
   // cell that stands in for it; -1 for the nodes of a void cell.
   int node_source(int i) const { return node_source_[i]; }
+  // Whether some occupied cell has a massless node (so update() has residuals to fold).
+  bool has_massless_nodes() const { return has_massless_; }
   int num_particles() const { return static_cast<int>(entries_.size()); }
 
  private:
@@ -128,6 +131,7 @@ class Discretisation {
         if (inv_mass_[c * npc + b] > 0.0 && d < best_distance) best = b, best_distance = d;
       }
       node_source_[i] = c * npc + best;
+      has_massless_ = true;
     }
   }
 
@@ -140,6 +144,7 @@ class Discretisation {
   std::vector<Stiffness> stiffness_;
   std::vector<Material> cell_material_;
   std::vector<char> occupied_;
+  bool has_massless_ = false;
 };
 
 }  // namespace dgmpm

@@ -15,11 +15,18 @@ struct ElasticBar {
   using State = Eigen::Matrix<double, n_comp, 1>;
   enum Component { stress = 0, velocity = 1 };
 
-  struct Material {
-    double young = 1.0;
-    double density = 1.0;
-    double wave_speed() const { return std::sqrt(young / density); }
-    double impedance() const { return std::sqrt(young * density); }
+  // Immutable once built: the wave speed and impedance are computed once, not at every face.
+  class Material {
+   public:
+    Material() : Material(1.0, 1.0) {}
+    Material(double young, double density)
+        : young(young), density(density), c_(std::sqrt(young / density)), z_(std::sqrt(young * density)) {}
+    double young, density;
+    double wave_speed() const { return c_; }
+    double impedance() const { return z_; }
+
+   private:
+    double c_, z_;
   };
 
   // Mass-weighted blend, for cells holding particles of several materials.
