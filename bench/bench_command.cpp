@@ -1,5 +1,6 @@
 #include "bench/bench_command.hpp"
 
+#include "bench/courant_bench.hpp"
 #include "bench/solver_bench.hpp"
 
 #include <iostream>
@@ -11,6 +12,7 @@ namespace {
 struct BenchArguments {
   std::vector<int> particles{100000, 1000000};
   double seconds = 2.0;
+  std::vector<std::string> what{"solver", "courant"};
 };
 }  // namespace
 
@@ -21,7 +23,15 @@ void add_bench_command(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
   cmd->add_option("--seconds", args->seconds, "Time spent per case")->check(CLI::PositiveNumber);
-  cmd->callback([args] { run_solver_benchmark(std::cout, args->particles, args->seconds); });
+  cmd->add_option("--what", args->what, "Benchmarks to run: solver, courant")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"solver", "courant"}));
+  cmd->callback([args] {
+    for (const auto& w : args->what) {
+      if (w == "solver") run_solver_benchmark(std::cout, args->particles, args->seconds);
+      if (w == "courant") run_courant_benchmark(std::cout);
+    }
+  });
 }
 
 }  // namespace dgmpm::bench

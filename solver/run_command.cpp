@@ -22,6 +22,9 @@ void print_human(const scene::Scene& scene, const Simulation& sim, const RunSumm
               sim.particles().size(), sim.problem().grid.num_cells());
   std::printf("steps %ld, final time %.9g s, dt %.6g to %.6g s, wall %.3f s\n", s.steps,
               s.final_time, s.dt_min, s.dt_max, s.wall_seconds);
+  if (scene.time.courant_auto)
+    std::printf("automatic time step (%s, safety %g): %d layouts analysed\n",
+                scene::to_string(scene.time.criterion), scene.time.safety, s.layouts_analysed);
   const double drift = s.energy_initial > 0 ? (s.energy_final - s.energy_initial) / s.energy_initial : 0.0;
   std::printf("energy: initial %.12g J, final %.12g J, relative change %.3e\n", s.energy_initial,
               s.energy_final, drift);
@@ -44,6 +47,7 @@ int run(const RunArguments& args) {
     RunOptions options;
     if (!args.out.empty()) options.output_directory = args.out;
     options.progress = true;
+    for (const auto& w : sim.warnings()) std::cerr << "warning: " << w << std::endl;
     const RunSummary summary = sim.run(options);
     if (args.json) {
       nlohmann::json j = summary.to_json();

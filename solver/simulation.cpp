@@ -12,6 +12,7 @@
 #include <iostream>
 #include <numeric>
 #include <sstream>
+#include <stability/layout.hpp>
 #include <unistd.h>
 #include <variant>
 
@@ -72,6 +73,8 @@ nlohmann::json RunSummary::to_json() const {
     };
     j["errors"] = {{"stress", norms(*stress_errors)}, {"velocity", norms(*velocity_errors)}};
   }
+  j["layouts_analysed"] = layouts_analysed;
+  j["warnings"] = warnings;
   j["files"] = files;
   return j;
 }
@@ -94,11 +97,7 @@ Simulation::Simulation(const scene::Scene& scene)
     : scene_(scene), problem_(make_bar_problem(scene)), stepper_(std::make_unique<Stepper>()) {
   sort_by_cell(problem_.grid, problem_.particles);
   reference_position_ = problem_.particles.position;
-  double c_max = 0;
-  for (int p = 0; p < problem_.particles.size(); ++p)
-    c_max = std::max(c_max, problem_.materials[problem_.particles.material[p]].wave_speed());
-  dt_ = scene_.time.courant * problem_.grid.cell_size.minCoeff() / c_max;
-
+  const double h = problem_.grid.cell_size.minCoeff();
   if (scene_.method == scene::Method::dgmpm) {
     stepper_->disc.build(problem_.grid, problem_.particles, problem_.materials);
     stepper_->op = std::make_unique<DGOperator<Physics>>(problem_.grid, stepper_->disc,
@@ -107,7 +106,19 @@ Simulation::Simulation(const scene::Scene& scene)
       stepper_->integrator.emplace<HeunRK2<Physics>>();
     else
       stepper_->integrator.emplace<ForwardEuler<Physics>>();
+    time_control_.emplace(scene_.time, scene_.particles_move);
+    dt_ = time_control_->time_step(stepper_->disc, problem_.particles, h);
+    if (!time_control_->automatic()) warn_if_above_admissible();
   } else {
+    if (scene_.time.courant_auto)
+      throw scene::SceneError(scene_.source +
+                              ": time.courant: value \"auto\" is not available for method \"" +
+                              scene::to_string(scene_.method) +
+                              "\"; allowed: a positive number (the stability analysis is DGMPM's)");
+    double c_max = 0;
+    for (int p = 0; p < problem_.particles.size(); ++p)
+      c_max = std::max(c_max, problem_.materials[problem_.particles.material[p]].wave_speed());
+    dt_ = scene_.time.courant * h / c_max;
     stepper_->mpm = std::make_unique<Mpm<1>>(
         problem_.grid, problem_.boundaries, problem_.materials, mpm_variant(scene_.method),
         scene_.update == scene::MpmUpdate::pic ? MpmVelocityUpdate::pic : MpmVelocityUpdate::flip);
@@ -115,6 +126,18 @@ Simulation::Simulation(const scene::Scene& scene)
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::warn_if_above_admissible() {
+  const auto limit = time_control_->smallest_admissible(stepper_->disc, problem_.particles);
+  if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
+  std::ostringstream s;
+  s << "Courant number " << scene_.time.courant << " is above the admissible "
+    << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
+    << ", " << scene::to_string(scene_.time.integrator) << ") of the layout of cell " << limit.cell
+    << " (positions " << stability::describe(limit.layout.positions) << ", masses "
+    << stability::describe(limit.layout.masses) << "): the run may be unstable";
+  warnings_.push_back(s.str());
+}
 
 void Simulation::step(double dt) {
   auto& particles = problem_.particles;
@@ -131,6 +154,8 @@ void Simulation::step(double dt) {
       if (scene_.particles_move) {
         particles.position.row(0) += dt * particles.state.row(Physics::velocity);
         stepper_->disc.build(problem_.grid, particles, problem_.materials);
+        if (time_control_->automatic())
+          dt_ = time_control_->time_step(stepper_->disc, particles, problem_.grid.cell_size.minCoeff());
       }
     }
   } catch (const ParticleOutsideGrid& e) {
@@ -270,9 +295,10 @@ RunSummary Simulation::run(const RunOptions& options) {
   const double t_end = scene_.time.end;
   int output_index = 0;
   for (double target : targets) {
-    for (double dt; (dt = step_towards(target)) > 0.0;) {
-      summary.dt_min = std::min(summary.dt_min, dt);
-      summary.dt_max = std::max(summary.dt_max, dt);
+    for (double controlled = dt_, dt; (dt = step_towards(target)) > 0.0; controlled = dt_) {
+      // The range of the controlled step; steps shortened to land on a time are not counted.
+      summary.dt_min = std::min(summary.dt_min, controlled);
+      summary.dt_max = std::max(summary.dt_max, controlled);
       if (writes) write_history(dt);
       if (progress) {
         const auto now = clock::now();
@@ -297,6 +323,8 @@ RunSummary Simulation::run(const RunOptions& options) {
 
   summary.steps = steps_;
   summary.final_time = time_;
+  summary.warnings = warnings_;
+  if (time_control_) summary.layouts_analysed = time_control_->layouts_analysed();
   summary.energy_final = energy();
   if (problem_.exact) {
     const Eigen::VectorXd& vol = particles.volume;

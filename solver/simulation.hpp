@@ -4,6 +4,7 @@
 
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
+#include "solver/time_step_control.hpp"
 
 #include <dgmpm/discretisation.hpp>
 #include <dgmpm/time_integration.hpp>
@@ -25,6 +26,8 @@ struct RunSummary {
   double final_time = 0, dt_min = 0, dt_max = 0, wall_seconds = 0;
   double energy_initial = 0, energy_final = 0;
   std::optional<ErrorNorms> stress_errors, velocity_errors;
+  int layouts_analysed = 0;
+  std::vector<std::string> warnings;
   std::vector<std::string> files;
   nlohmann::json to_json() const;
 };
@@ -54,8 +57,13 @@ class Simulation {
   double time() const { return time_; }
   long steps() const { return steps_; }
 
-  // Step length from the scene's Courant number.
+  // Step length of the current configuration: from the scene's Courant number, or from the
+  // stability analysis of the cells' layouts with "courant": "auto" (recomputed after moves).
   double stable_time_step() const { return dt_; }
+  // DGMPM only (empty for MPM).
+  const std::optional<TimeStepControl>& time_step_control() const { return time_control_; }
+  // Set up: a fixed Courant number above the admissible one of some cell's layout.
+  const std::vector<std::string>& warnings() const { return warnings_; }
   // One step of length dt; moves particles and rebuilds the operators when the scene asks.
   // Throws std::runtime_error naming the step, time, particle and cell on a non-finite state or
   // a particle leaving the grid.
@@ -78,12 +86,15 @@ class Simulation {
   // One step toward `target`, shortened to land on it; returns its length, 0 once there.
   double step_towards(double target);
   void check_finite() const;
+  void warn_if_above_admissible();
   void write_particles(const std::string& path) const;
 
   scene::Scene scene_;
   BarProblem problem_;
   std::unique_ptr<Stepper> stepper_;
   Eigen::Matrix<double, 1, Eigen::Dynamic> reference_position_;  // initial positions
+  std::optional<TimeStepControl> time_control_;
+  std::vector<std::string> warnings_;
   double time_ = 0, dt_ = 0;
   long steps_ = 0;
 };

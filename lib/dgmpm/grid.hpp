@@ -3,6 +3,7 @@
 // node ids are cell * nodes_per_cell + local, local's bit l being the node's side along axis l.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -65,6 +66,10 @@ struct Grid {
     return x;
   }
 
+  // Relative distance to a face (in cells) under which a point counts as on the face: particles
+  // that reach a face together must land in the same cell, whatever their round-off.
+  static constexpr double face_snap = 1e-12;
+
   // Cell holding x and the local coordinates xi in [0, 1]^Dim; -1 when x is outside a
   // non-periodic grid. A point on a face belongs to the cell on its plus side, except on the
   // grid's upper boundary, which belongs to the last cell (xi = 1). Periodic axes wrap x.
@@ -72,6 +77,8 @@ struct Grid {
     Index k{};
     for (int l = 0; l < Dim; ++l) {
       double s = (x[l] - origin[l]) / cell_size[l];
+      const double face = std::round(s);
+      if (std::abs(s - face) <= face_snap * std::max(1.0, std::abs(face))) s = face;
       if (periodic[l]) {
         s -= std::floor(s / cells[l]) * cells[l];
         if (s >= cells[l]) s = 0.0;  // round-off of the wrap

@@ -1,0 +1,80 @@
+#include "solver/time_step_control.hpp"
+
+#include <stability/admissible_courant.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dgmpm {
+
+TimeStepControl::TimeStepControl(const scene::TimeSpec& time, bool particles_move)
+    : automatic_(time.courant_auto),
+      courant_(time.courant),
+      safety_(time.safety),
+      quantum_(particles_move ? moving_position_quantum : fixed_position_quantum),
+      scheme_(time.integrator == scene::Integrator::rk2 ? stability::TimeScheme::rk2
+                                                        : stability::TimeScheme::euler),
+      criterion_(time.criterion == scene::Criterion::monotone ? stability::Criterion::monotone
+                                                              : stability::Criterion::l2) {}
+
+void TimeStepControl::fill_key(const Disc& disc, const BarParticles& particles, int c) {
+  entries_.clear();
+  for (int e = disc.cell_begin(c); e < disc.cell_end(c); ++e) {
+    const int p = disc.entry_particle(e);
+    double xi = disc.particle_local(p)[0];
+    xi = std::round(xi / quantum_) * quantum_;
+    entries_.emplace_back(xi, particles.mass[p]);
+  }
+  std::sort(entries_.begin(), entries_.end());
+  const double unit = entries_.front().second;  // the analysis rescales masses to a full cell
+  key_.clear();
+  for (const auto& entry : entries_) key_.push_back(entry.first);
+  for (const auto& entry : entries_) key_.push_back(entry.second / unit);
+}
+
+stability::CellLayout TimeStepControl::layout_of(const Disc& disc, const BarParticles& particles,
+                                                 int c) {
+  fill_key(disc, particles, c);
+  const auto n = static_cast<std::ptrdiff_t>(entries_.size());
+  return {std::vector<double>(key_.begin(), key_.begin() + n),
+          std::vector<double>(key_.begin() + n, key_.end())};
+}
+
+double TimeStepControl::cell_courant(const Disc& disc, const BarParticles& particles, int c) {
+  fill_key(disc, particles, c);
+  const auto it = cache_.find(key_);
+  if (it != cache_.end()) return it->second;
+  const auto n = static_cast<std::ptrdiff_t>(entries_.size());
+  const stability::CellLayout layout{std::vector<double>(key_.begin(), key_.begin() + n),
+                                     std::vector<double>(key_.begin() + n, key_.end())};
+  const double courant =
+      stability::admissible_courant(layout, scheme_, criterion_, stability::Model::elastic).courant;
+  cache_.emplace(key_, courant);
+  return courant;
+}
+
+TimeStepControl::Limit TimeStepControl::smallest_admissible(const Disc& disc,
+                                                            const BarParticles& particles) {
+  Limit limit;
+  limit.courant = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < disc.num_cells(); ++c) {
+    if (!disc.occupied(c)) continue;
+    const double cs = cell_courant(disc, particles, c);
+    if (cs < limit.courant) limit = {cs, c, layout_of(disc, particles, c)};
+  }
+  return limit;
+}
+
+double TimeStepControl::time_step(const Disc& disc, const BarParticles& particles, double h) {
+  double dt = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < disc.num_cells(); ++c) {
+    if (!disc.occupied(c)) continue;
+    const double speed = disc.cell_material(c).wave_speed();
+    const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c) : courant_;
+    dt = std::min(dt, cs * h / speed);
+  }
+  return dt;
+}
+
+}  // namespace dgmpm

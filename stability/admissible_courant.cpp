@@ -1,0 +1,56 @@
+#include "stability/admissible_courant.hpp"
+
+#include "stability/criteria.hpp"
+
+#include <limits>
+
+namespace dgmpm::stability {
+
+SearchOptions default_search_options(Criterion criterion) {
+  SearchOptions o;
+  if (criterion == Criterion::l2) {
+    o.scan_step = 0.01;
+    o.margin_tolerance = kL2MarginTolerance;
+  } else {
+    o.scan_step = 0.002;  // cheap to evaluate: scan finely
+    o.margin_tolerance = kMonotoneMarginTolerance;
+  }
+  return o;
+}
+
+CourantResult admissible_courant(const OneStepMap& map, Criterion criterion,
+                                 const SearchOptions& options) {
+  CourantResult r;
+  SearchResult s;
+  if (criterion == Criterion::l2) {
+    L2Criterion l2(map);
+    s = search_admissible_courant([&](double c) { return l2.margin(c).value; }, options);
+    if (s.bounded) {
+      const L2Margin m = l2.margin(s.failing_courant);
+      r.direction = map.families[m.family].direction;
+      r.critical_theta = m.theta;
+    }
+  } else {
+    s = search_admissible_courant([&](double c) { return monotone_margin(map, c).value; }, options);
+    if (s.bounded) {
+      const MonotoneMargin m = monotone_margin(map, s.failing_courant);
+      const auto& family = map.families[m.family];
+      r.direction = family.direction;
+      r.limiting_particle = family.particle[m.row];
+    }
+  }
+  if (!s.bounded) r.critical_theta = std::numeric_limits<double>::quiet_NaN();
+  r.courant = s.courant;
+  r.bounded = s.bounded;
+  r.failing_courant = s.failing_courant;
+  r.evaluations = s.evaluations;
+  return r;
+}
+
+CourantResult admissible_courant(const CellLayout& layout, TimeScheme scheme, Criterion criterion,
+                                 Model model) {
+  return admissible_courant(build_one_step_map(layout, scheme, model), criterion,
+                            default_search_options(criterion));
+}
+
+}  // namespace dgmpm::stability

@@ -1,0 +1,88 @@
+#include "stability/courant_search.hpp"
+
+#include "stability/gsl_guard.hpp"
+
+#include <cmath>
+#include <gsl/gsl_roots.h>
+#include <stdexcept>
+
+namespace dgmpm::stability {
+namespace {
+
+struct Shifted {
+  const std::function<double(double)>& margin;
+  double tolerance;
+  int& evaluations;
+};
+
+double shifted_margin(double courant, void* data) {
+  auto& s = *static_cast<Shifted*>(data);
+  ++s.evaluations;
+  return s.margin(courant) - s.tolerance;
+}
+
+}  // namespace
+
+SearchResult search_admissible_courant(const std::function<double(double)>& margin,
+                                       const SearchOptions& options) {
+  if (!(options.scan_step > 0.0 && options.max_courant > 0.0 && options.courant_tolerance > 0.0))
+    throw std::invalid_argument("search_admissible_courant: steps and bounds must be positive");
+  SearchResult result;
+  Shifted shifted{margin, options.margin_tolerance, result.evaluations};
+
+  // Scan: the first scanned C that fails brackets the first transition with the last that passed.
+  double lo = 0.0, hi = 0.0;
+  bool found = false;
+  const int steps = static_cast<int>(std::ceil(options.max_courant / options.scan_step - 1e-9));
+  for (int k = 1; k <= steps && !found; ++k) {
+    const double c = std::min(k * options.scan_step, options.max_courant);
+    const double f = shifted_margin(c, &shifted);
+    if (f > 0.0) {
+      hi = c, found = true;
+    } else {
+      lo = c;
+    }
+  }
+  if (!found) {
+    result.courant = result.failing_courant = options.max_courant;
+    result.bounded = false;
+    return result;
+  }
+  // Refine: Brent keeps a sign change in its bracket, not necessarily the first one when several
+  // transitions hide between two scan points; both ends are checked, and the search goes on in
+  // the part of the bracket that still starts passing and ends failing.
+  GslErrorsAsCodes guard;
+  gsl_function f{&shifted_margin, &shifted};
+  gsl_root_fsolver* solver = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+  while (hi - lo > options.courant_tolerance) {
+    double x_lower = lo, x_upper = hi;
+    // The solver evaluates both ends, and C = 0 is never evaluated: bisect first in that case.
+    if (lo > 0.0 && gsl_root_fsolver_set(solver, &f, lo, hi) == GSL_SUCCESS) {
+      for (int it = 0; it < 100; ++it) {
+        if (gsl_root_fsolver_iterate(solver) != GSL_SUCCESS) break;
+        x_lower = gsl_root_fsolver_x_lower(solver);
+        x_upper = gsl_root_fsolver_x_upper(solver);
+        if (x_upper - x_lower <= options.courant_tolerance) break;
+      }
+    }
+    if (x_lower == lo && x_upper == hi) {  // no progress: bisect
+      const double mid = 0.5 * (lo + hi);
+      (shifted_margin(mid, &shifted) > 0.0 ? hi : lo) = mid;
+      continue;
+    }
+    const bool lower_passes = shifted_margin(x_lower, &shifted) <= 0.0;
+    const bool upper_passes = shifted_margin(x_upper, &shifted) <= 0.0;
+    if (!lower_passes)
+      hi = x_lower;
+    else if (upper_passes)
+      lo = x_upper;
+    else
+      lo = x_lower, hi = x_upper;
+  }
+  gsl_root_fsolver_free(solver);
+  result.courant = lo;
+  result.failing_courant = hi;
+  return result;
+}
+
+}  // namespace dgmpm::stability

@@ -1,0 +1,28 @@
+#pragma once
+// The largest C* such that every C in (0, C*] passes (method.md 5): the passing set need not be
+// an interval, so C is scanned upward from 0 and only the first transition is refined. Works on
+// any margin function, e.g. the von Neumann criteria or an ARPACK spectral radius minus one.
+
+#include <functional>
+
+namespace dgmpm::stability {
+
+struct SearchOptions {
+  double scan_step = 0.01;          // the scan cannot see a failing window narrower than this
+  double max_courant = 4.0;         // nothing failing up to here: reported as unbounded
+  double courant_tolerance = 1e-9;  // width of the final bracket
+  double margin_tolerance = 0.0;    // C passes when margin(C) <= margin_tolerance
+};
+
+struct SearchResult {
+  double courant = 0.0;          // C*: passes, as does every scanned C below it
+  double failing_courant = 0.0;  // fails, within courant_tolerance above C*
+  bool bounded = true;           // false: nothing failed up to max_courant (courant = max)
+  int evaluations = 0;
+};
+
+// margin(C) is called for C in (0, max_courant]; C = 0 is taken to pass.
+SearchResult search_admissible_courant(const std::function<double(double)>& margin,
+                                       const SearchOptions& options);
+
+}  // namespace dgmpm::stability

@@ -1,0 +1,67 @@
+#pragma once
+// The two stability criteria of method.md 5, as margins: a Courant number passes when the margin
+// is at most the criterion's tolerance (round-off), fails when it is above.
+//   L2:        max over theta of (rho(G(theta)) - 1) / (1 - cos theta)
+//   monotone:  max over unknowns of (sum of |row of the one-step particle map| - 1)
+// The L2 margin divides by 1 - cos theta so that it stays informative near theta = 0, where
+// rho = 1 exactly (conservation) and, just above the limit, the growth is O(theta^2) times a
+// small number: its limit at theta = 0 is minus the curvature of rho, which changes sign at a
+// long-wave limit. The sign is that of max rho - 1, so passing is unchanged.
+
+#include "stability/one_step_map.hpp"
+
+#include <Eigen/Core>
+#include <complex>
+#include <vector>
+
+namespace dgmpm::stability {
+
+// Round-off levels of the margins (their values near a passing C): see criteria.cpp.
+constexpr double kL2MarginTolerance = 1e-9;
+constexpr double kMonotoneMarginTolerance = 1e-12;
+
+// Spectral radius of one family's G(theta) at a fixed C. Every particle value after a step is
+// interpolated from its cell's nodes, so G has rank <= 2 per family: its nonzero eigenvalues are
+// those of U^T G U, U an orthonormal basis of the range of all the B_{d,k} (found by SVD, not
+// assumed), which makes each evaluation a 2 x 2 (closed form) eigenproblem.
+class FamilySpectrum {
+ public:
+  explicit FamilySpectrum(const StencilFamily& family);
+  void set_courant(double courant);
+  double radius(double theta) const;                // at the last set_courant
+  double radius(std::complex<double> phase) const;  // phase = e^{-i theta}
+  int reduced_size() const { return rank_; }
+
+ private:
+  std::vector<int> offsets_;
+  std::vector<std::vector<Eigen::MatrixXd>> reduced_;  // [offset][power], rank_ x rank_
+  std::vector<Eigen::MatrixXd> at_courant_;            // [offset]
+  int rank_ = 0;
+};
+
+struct L2Margin {
+  double value = 0.0;
+  double theta = 0.0;  // where the maximum is
+  int family = 0;
+};
+
+class L2Criterion {
+ public:
+  explicit L2Criterion(const OneStepMap& map);
+  L2Margin margin(double courant);
+  // max over families of rho(G(theta)) at C.
+  double spectral_radius(double courant, double theta);
+
+ private:
+  std::vector<FamilySpectrum> families_;
+};
+
+struct MonotoneMargin {
+  double value = 0.0;
+  int family = 0;
+  int row = 0;  // unknown of that family (StencilFamily::particle gives the particle)
+};
+
+MonotoneMargin monotone_margin(const OneStepMap& map, double courant);
+
+}  // namespace dgmpm::stability

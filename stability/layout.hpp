@@ -1,0 +1,35 @@
+#pragma once
+// The particle layout of one cell, the input of the von Neumann analysis (method.md 5).
+
+#include <string>
+#include <vector>
+
+namespace dgmpm::stability {
+
+// Positions are local coordinates in [0, 1]; masses are relative weights (equal when empty),
+// scaled at use so that the cell's particles carry a full cell's mass, rho dx.
+struct CellLayout {
+  std::vector<double> positions;
+  std::vector<double> masses;
+
+  int size() const { return static_cast<int>(positions.size()); }
+  // Relative weight of particle k, 1 when masses is empty.
+  double weight(int k) const { return masses.empty() ? 1.0 : masses[k]; }
+  // Fraction of the cell's mass carried by particle k.
+  double mass_fraction(int k) const;
+};
+
+// Throws std::invalid_argument naming the offending entry: no particle, a position outside
+// [0, 1] (or not a number), a non-positive or non-finite mass, or as many masses as positions.
+void validate(const CellLayout& layout);
+
+// The layout seen by a wave travelling to -x: xi -> 1 - xi, same masses in the same order.
+CellLayout mirror(const CellLayout& layout);
+
+// n equal particles at (k + 1/2) / n.
+CellLayout regular_layout(int n);
+
+// "0.25, 0.75" style, for messages.
+std::string describe(const std::vector<double>& values);
+
+}  // namespace dgmpm::stability

@@ -1,0 +1,165 @@
+#include "stability/one_step_map.hpp"
+
+#include "stability/periodic_cells.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace dgmpm::stability {
+namespace {
+
+// Offsets -kWindow..kWindow are observed; a response at +-kWindow means the stencil may wrap
+// around the periodic grid, so it is refused rather than aliased.
+constexpr int kWindow = 4;
+constexpr int kCells = 2 * kWindow + 1;
+constexpr int kHome = kWindow;
+
+// blocks[d + kWindow](c_out * N + i, c_in * N + j): response of component c_out of particle i in
+// cell home + d to a unit value of component c_in of particle j in cell home.
+template <class Physics>
+std::vector<Eigen::MatrixXd> sample_blocks(PeriodicCells<Physics>& grid, TimeScheme scheme,
+                                           double courant) {
+  constexpr int ncomp = Physics::n_comp;
+  const int n = grid.particles_per_cell(), m = ncomp * n;
+  std::vector<Eigen::MatrixXd> blocks(kCells, Eigen::MatrixXd::Zero(m, m));
+  for (int c_in = 0; c_in < ncomp; ++c_in)
+    for (int j = 0; j < n; ++j) {
+      grid.state().setZero();
+      grid.state()(c_in, kHome * n + j) = 1.0;
+      grid.step(scheme, courant);
+      for (int e = 0; e < kCells; ++e)
+        for (int c_out = 0; c_out < ncomp; ++c_out)
+          for (int i = 0; i < n; ++i)
+            blocks[e](c_out * n + i, c_in * n + j) = grid.state()(c_out, e * n + i);
+    }
+  return blocks;
+}
+
+double max_abs(const std::vector<Eigen::MatrixXd>& blocks) {
+  double s = 0.0;
+  for (const auto& b : blocks) s = std::max(s, b.cwiseAbs().maxCoeff());
+  return s;
+}
+
+// coefficients[d + kWindow][k] of the full (ncomp N)-square blocks.
+template <class Physics>
+std::vector<std::vector<Eigen::MatrixXd>> polynomial_blocks(const CellLayout& layout,
+                                                            TimeScheme scheme) {
+  const int degree = polynomial_degree(scheme);
+  PeriodicCells<Physics> grid(layout, kCells);
+  // Nodes j / degree in [0, 1]: exact in binary, and a well-conditioned Vandermonde system.
+  Eigen::MatrixXd vandermonde(degree + 1, degree + 1);
+  std::vector<std::vector<Eigen::MatrixXd>> samples;
+  for (int j = 0; j <= degree; ++j) {
+    const double c = static_cast<double>(j) / degree;
+    for (int k = 0; k <= degree; ++k) vandermonde(j, k) = std::pow(c, k);
+    samples.push_back(sample_blocks(grid, scheme, c));
+  }
+  const Eigen::MatrixXd inverse = vandermonde.fullPivLu().inverse();
+  std::vector<std::vector<Eigen::MatrixXd>> coefficients(kCells);
+  for (int d = 0; d < kCells; ++d)
+    for (int k = 0; k <= degree; ++k) {
+      Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(samples[0][d].rows(), samples[0][d].cols());
+      for (int j = 0; j <= degree; ++j) sum += inverse(k, j) * samples[j][d];
+      coefficients[d].push_back(sum);
+    }
+
+  // One more application checks that lib's step really is this polynomial in dt.
+  const double check_courant = 0.75;
+  const auto check = sample_blocks(grid, scheme, check_courant);
+  double error = 0.0;
+  for (int d = 0; d < kCells; ++d) {
+    Eigen::MatrixXd value = coefficients[d][degree];
+    for (int k = degree - 1; k >= 0; --k) value = value * check_courant + coefficients[d][k];
+    error = std::max(error, (value - check[d]).cwiseAbs().maxCoeff());
+  }
+  if (error > 1e-12 * std::max(1.0, max_abs(check))) {
+    std::ostringstream s;
+    s << "the one-step map of lib's " << to_string(scheme)
+      << " integrator is not a polynomial of degree " << degree << " in dt (mismatch " << error
+      << ")";
+    throw std::logic_error(s.str());
+  }
+  return coefficients;
+}
+
+// Family of the unknowns [first, first + size) of the (transformed) blocks.
+StencilFamily extract_family(const std::vector<std::vector<Eigen::MatrixXd>>& coefficients,
+                             int first, int size, int n, const std::string& direction) {
+  double scale = 0.0;
+  for (const auto& by_power : coefficients) scale = std::max(scale, max_abs(by_power));
+  StencilFamily f;
+  f.direction = direction;
+  f.size = size;
+  for (int r = 0; r < size; ++r) f.particle.push_back((first + r) % n);
+  for (int d = 0; d < kCells; ++d) {
+    std::vector<Eigen::MatrixXd> part;
+    double largest = 0.0;
+    for (const auto& c : coefficients[d]) {
+      part.push_back(c.block(first, first, size, size));
+      largest = std::max(largest, part.back().cwiseAbs().maxCoeff());
+    }
+    if (largest <= 1e-14 * scale) continue;
+    if (d == 0 || d == kCells - 1)
+      throw std::logic_error("the one-step map reaches further than the analysis window (+-" +
+                             std::to_string(kWindow - 1) + " cells)");
+    f.offsets.push_back(d - kHome);
+    f.coefficients.push_back(std::move(part));
+  }
+  return f;
+}
+
+}  // namespace
+
+Eigen::MatrixXd StencilFamily::block(std::size_t offset_index, double courant) const {
+  const auto& c = coefficients[offset_index];
+  Eigen::MatrixXd value = c.back();
+  for (int k = static_cast<int>(c.size()) - 2; k >= 0; --k) value = value * courant + c[k];
+  return value;
+}
+
+OneStepMap build_one_step_map(const CellLayout& layout, TimeScheme scheme, Model model) {
+  validate(layout);
+  OneStepMap map{layout, scheme, model, polynomial_degree(scheme), {}};
+  const int n = layout.size();
+  if (model == Model::advection) {
+    map.families.push_back(
+        extract_family(polynomial_blocks<Advection<1>>(layout, scheme), 0, n, n, "+x"));
+    return map;
+  }
+  // Specific state (sigma / rho, v); w+ = sigma/rho - c v travels to +x, w- = sigma/rho + c v
+  // to -x. In these variables the blocks become T B T^-1.
+  auto coefficients = polynomial_blocks<ElasticBar>(layout, scheme);
+  const double c = unit_material<ElasticBar>().wave_speed();
+  Eigen::MatrixXd t(2 * n, 2 * n), t_inverse(2 * n, 2 * n);
+  const Eigen::MatrixXd id = Eigen::MatrixXd::Identity(n, n);
+  t << id, -c * id, id, c * id;
+  t_inverse << 0.5 * id, 0.5 * id, -0.5 / c * id, 0.5 / c * id;
+  double scale = 0.0, coupling = 0.0;
+  for (auto& by_power : coefficients)
+    for (auto& b : by_power) {
+      b = t * b * t_inverse;
+      scale = std::max(scale, b.cwiseAbs().maxCoeff());
+      coupling = std::max({coupling, b.topRightCorner(n, n).cwiseAbs().maxCoeff(),
+                           b.bottomLeftCorner(n, n).cwiseAbs().maxCoeff()});
+    }
+  if (coupling <= 1e-12 * scale) {
+    map.families.push_back(extract_family(coefficients, 0, n, n, "+x"));
+    map.families.push_back(extract_family(coefficients, n, n, n, "-x"));
+  } else {
+    map.families.push_back(extract_family(coefficients, 0, 2 * n, n, "both"));
+  }
+  return map;
+}
+
+Eigen::MatrixXcd amplification_matrix(const StencilFamily& family, double courant, double theta) {
+  Eigen::MatrixXcd g = Eigen::MatrixXcd::Zero(family.size, family.size);
+  for (std::size_t i = 0; i < family.offsets.size(); ++i)
+    g += std::polar(1.0, -family.offsets[i] * theta) *
+         family.block(i, courant).cast<std::complex<double>>();
+  return g;
+}
+
+}  // namespace dgmpm::stability

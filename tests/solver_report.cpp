@@ -1,0 +1,137 @@
+// `dgmpm report --quick` (issue 5): every figure and table is produced and its numbers hold.
+#define BOOST_TEST_MODULE report
+#include <boost/test/unit_test.hpp>
+
+#include "reports/report.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <unistd.h>
+
+using namespace dgmpm::report;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct QuickReport {
+  fs::path dir;
+  ReportResult result;
+  std::string markdown;
+  QuickReport() {
+    std::string pattern = (fs::temp_directory_path() / "dgmpm_report_XXXXXX").string();
+    BOOST_REQUIRE(::mkdtemp(pattern.data()) != nullptr);
+    dir = pattern;
+    std::ostringstream log;
+    result = write_report({true, dir.string(), true}, log);
+    BOOST_TEST_MESSAGE(log.str());
+    std::ifstream in(dir / "report.md");
+    markdown.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ~QuickReport() {
+    std::error_code ignored;
+    fs::remove_all(dir, ignored);
+  }
+};
+
+const QuickReport& report() {
+  static const QuickReport r;  // one quick run serves every test case
+  return r;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(every_file_is_written_and_not_empty) {
+  const QuickReport& r = report();
+  BOOST_TEST(r.result.plot_status == 0);
+  std::vector<std::string> names = report_csv_files();
+  for (const auto& png : report_png_files()) names.push_back(png);
+  for (const auto& name : names) {
+    BOOST_TEST_CONTEXT(name) {
+      BOOST_TEST(fs::exists(r.dir / name));
+      BOOST_TEST((fs::exists(r.dir / name) && fs::file_size(r.dir / name) > 0));
+      BOOST_TEST(r.markdown.find(name) != std::string::npos);  // referenced by the report
+    }
+  }
+  BOOST_TEST(!r.markdown.empty());
+  for (const auto& entry : fs::directory_iterator(r.dir))  // no temporary left behind
+    BOOST_TEST(entry.path().filename().string().find("tmp") == std::string::npos, entry.path());
+}
+
+BOOST_AUTO_TEST_CASE(header_states_where_and_how) {
+  const std::string& md = report().markdown;
+  for (const char* key : {"| commit |", "| build type |", "| CPU |", "| cores |", "| date |"})
+    BOOST_TEST(md.find(key) != std::string::npos, key);
+}
+
+BOOST_AUTO_TEST_CASE(dgmpm_courant_one_is_exact_on_the_two_bars) {
+  int found = 0;
+  for (const RunRow& r : report().result.runs)
+    if (r.problem == "two_bar" && r.label == "DGMPM Euler 1ppc C=1") {
+      ++found;
+      BOOST_TEST(r.stable);
+      BOOST_TEST(r.l2_error < 1e-10, r.cells << " cells: " << r.l2_error);
+    }
+  BOOST_TEST(found >= 3);
+}
+
+BOOST_AUTO_TEST_CASE(dgmpm_errors_decrease_under_refinement_on_the_smooth_pulse) {
+  std::map<std::string, std::vector<const RunRow*>> by_method;
+  for (const RunRow& r : report().result.runs)
+    if (r.problem == "smooth_pulse" && r.label.rfind("DGMPM", 0) == 0)
+      by_method[r.label].push_back(&r);
+  BOOST_TEST(by_method.size() == 12u);
+  for (const auto& [label, rows] : by_method) {
+    BOOST_TEST_CONTEXT(label) {
+      BOOST_TEST(rows.size() >= 3u);
+      for (std::size_t k = 1; k < rows.size(); ++k) {
+        BOOST_TEST(rows[k]->stable);
+        BOOST_TEST(rows[k]->h < rows[k - 1]->h);
+        BOOST_TEST(rows[k]->l2_error < rows[k - 1]->l2_error, rows[k]->cells << " cells");
+      }
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(every_fitted_order_is_finite_and_printed) {
+  const QuickReport& r = report();
+  int fitted = 0;
+  for (const OrderFit& f : r.result.orders) {
+    BOOST_TEST_CONTEXT(f.problem << ", " << f.label) {
+      // Only DGMPM at round-off on the two bars may go without an order.
+      if (!f.note.empty()) {
+        BOOST_TEST(f.note == "round-off error on every grid");
+        BOOST_TEST(f.problem == "two_bar");
+        BOOST_TEST(r.markdown.find("n/a: " + f.note) != std::string::npos);
+        continue;
+      }
+      ++fitted;
+      BOOST_TEST(std::isfinite(f.order));
+      std::ostringstream printed;
+      printed << "| " << f.label;
+      BOOST_TEST(r.markdown.find(printed.str()) != std::string::npos);
+      std::ostringstream order;
+      order << std::fixed << std::setprecision(2) << f.order << " (" << f.points << " grids)";
+      BOOST_TEST(r.markdown.find(order.str()) != std::string::npos, order.str());
+    }
+  }
+  // Every smooth-pulse method has an order.
+  BOOST_TEST(fitted >= 18);
+}
+
+BOOST_AUTO_TEST_CASE(stiff_cases_are_tabulated) {
+  const QuickReport& r = report();
+  const auto& stiff = r.result.stiff;
+  BOOST_TEST(stiff.size() >= 10u);
+  for (const RunRow& row : stiff)
+    BOOST_TEST(r.markdown.find("| " + row.label + " |") != std::string::npos, row.label);
+  // Automatic steps on the plain layouts hold; whether every extreme case does is what the table
+  // reports, not a property of the report.
+  BOOST_TEST(stiff.front().stable);
+  BOOST_TEST(stiff.front().max_error < 1e-10);
+  // The contrast row runs above the layout's admissible Courant number.
+  BOOST_TEST(!stiff.back().stable);
+}

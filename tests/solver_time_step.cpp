@@ -1,0 +1,177 @@
+// Automatic time step (issue 4): dt from the stability analysis of the layouts the solver runs.
+#define BOOST_TEST_MODULE time_step
+#include <boost/test/unit_test.hpp>
+
+#include "solver/simulation.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+using namespace dgmpm;
+using nlohmann::json;
+
+namespace {
+
+const double E = 2e11, rho = 7800;
+const double c = std::sqrt(E / rho), Z = std::sqrt(E * rho);
+const double v0 = 4e9 / (2 * Z);
+const double dx = 0.04;
+
+json steel() { return {{"steel", {{"young", E}, {"density", rho}}}}; }
+
+json body(double lo, double hi, double v, json layout) {
+  json b = {{"material", "steel"}, {"box", {{"min", {lo}}, {"max", {hi}}}}, {"velocity", {v}}};
+  b.update(layout);
+  return b;
+}
+
+// The founding paper's two-bar impact with moving particles, on a grid with room to move.
+json moving_two_bar(json courant, const std::string& criterion = "") {
+  json time = {{"end", 150 * dx / c}, {"integrator", "euler"}, {"courant", courant}};
+  if (!criterion.empty()) time["criterion"] = criterion;
+  return {{"dimension", 1},
+          {"grid", {{"origin", {-0.4}}, {"cell_size", {dx}}, {"cells", {170}}}},
+          {"materials", steel()},
+          {"bodies", {body(0, 3, v0, {{"particles_per_cell", 1}}), body(3, 6, -v0, {{"particles_per_cell", 1}})}},
+          {"time", time},
+          {"particles_move", true}};
+}
+
+struct Extremes {
+  double min_stress = 0, max_stress = 0, max_energy = 0, min_dt = 1e300;
+  long steps = 0;
+  bool failed = false;
+};
+
+// Steps to the end, recording the stress range and the largest energy after every step.
+Extremes run_recording(Simulation& sim, double t_end) {
+  Extremes r;
+  r.max_energy = sim.energy();
+  try {
+    while (sim.time() < t_end * (1 - 1e-12)) {
+      r.min_dt = std::min(r.min_dt, sim.stable_time_step());
+      sim.step(std::min(sim.stable_time_step(), t_end - sim.time()));
+      const auto s = sim.stress();
+      r.min_stress = std::min(r.min_stress, s.minCoeff());
+      r.max_stress = std::max(r.max_stress, s.maxCoeff());
+      r.max_energy = std::max(r.max_energy, sim.energy());
+      ++r.steps;
+    }
+  } catch (const std::runtime_error&) {
+    r.failed = true;  // left the grid or overflowed: the instability ran away
+  }
+  return r;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(moving_two_bar_impact_degrades_at_courant_one) {
+  const double t_end = 150 * dx / c, e0 = 0.5 * 6.0 * rho * v0 * v0;
+  Simulation sim(scene::parse_scene(moving_two_bar(1.0)));
+  const Extremes r = run_recording(sim, t_end);
+  // Cells that come to hold two particles are unstable at C = 1 (admissible 0.686).
+  BOOST_TEST((r.failed || r.max_energy > 1.5 * e0 || r.min_stress < -1.5 * Z * v0));
+}
+
+BOOST_AUTO_TEST_CASE(moving_two_bar_impact_with_auto_steps_stays_bounded) {
+  const double t_end = 150 * dx / c, e0 = 0.5 * 6.0 * rho * v0 * v0;
+  for (const char* criterion : {"l2", "monotone"}) {
+    BOOST_TEST_CONTEXT(criterion) {
+      Simulation sim(scene::parse_scene(moving_two_bar("auto", criterion)));
+      const Extremes r = run_recording(sim, t_end);
+      BOOST_TEST(!r.failed);
+      // The Godunov fluxes dissipate; the admissible Courant numbers are found to 1e-9.
+      BOOST_TEST(r.max_energy <= e0 * (1 + 1e-8));
+      BOOST_TEST(sim.time_step_control()->layouts_analysed() > 1);
+      BOOST_TEST(r.min_dt < 0.75 * dx / c);  // cells holding two particles limit dt
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(mixed_layouts_take_the_two_particle_limit) {
+  json doc = {{"dimension", 1},
+              {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {100}}, {"periodic", true}}},
+              {"materials", steel()},
+              {"bodies", {body(0, 2, 1.0, {{"particles_per_cell", 2}}), body(2, 4, -1.0, {{"particles_per_cell", 1}})}},
+              {"time", {{"end", 1000 * 0.686 * dx / c}, {"courant", "auto"}}}};
+  Simulation sim(scene::parse_scene(doc));
+  // Published: 2 regular particles per cell, Euler, L2: 0.686 +- 0.001.
+  BOOST_TEST(std::abs(sim.stable_time_step() * c / dx - 0.686) <= 1e-3);
+  BOOST_TEST(sim.time_step_control()->layouts_analysed() == 2);
+  const double e0 = sim.energy();
+  const Extremes r = run_recording(sim, doc["time"]["end"].get<double>());
+  BOOST_TEST(!r.failed);
+  BOOST_TEST(r.steps >= 999);
+  BOOST_TEST(r.max_energy <= e0 * (1 + 1e-12));  // upwind fluxes dissipate, never create energy
+}
+
+BOOST_AUTO_TEST_CASE(bimaterial_dt_is_set_by_the_faster_material) {
+  const double E2 = 7e10, rho2 = 2700, c2 = std::sqrt(E2 / rho2);  // aluminium: c2 > c
+  json doc = {{"dimension", 1},
+              {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {100}}}},
+              {"materials", {{"steel", {{"young", E}, {"density", rho}}}, {"alu", {{"young", E2}, {"density", rho2}}}}},
+              {"bodies", {body(0, 2, 10.0, {{"particles_per_cell", 1}}),
+                          {{"material", "alu"}, {"box", {{"min", {2.0}}, {"max", {4.0}}}}, {"particles_per_cell", 1}}}},
+              {"time", {{"end", 1e-4}, {"courant", "auto"}}}};
+  Simulation sim(scene::parse_scene(doc));
+  BOOST_TEST(c2 > c);
+  BOOST_TEST(sim.stable_time_step() == dx / c2, boost::test_tools::tolerance(1e-9));
+}
+
+BOOST_AUTO_TEST_CASE(a_fixed_courant_above_the_admissible_one_warns_once) {
+  json doc = {{"dimension", 1},
+              {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {50}}}},
+              {"materials", steel()},
+              {"bodies", {body(0, 2, 1.0, {{"particles_per_cell", 2}})}},
+              {"time", {{"end", 1e-5}, {"courant", 0.9}}}};
+  Simulation sim(scene::parse_scene(doc));
+  BOOST_TEST_REQUIRE(sim.warnings().size() == 1u);
+  BOOST_TEST(sim.warnings()[0].find("0.686") != std::string::npos);
+  BOOST_TEST(sim.stable_time_step() == 0.9 * dx / c, boost::test_tools::tolerance(1e-12));
+  doc["time"]["courant"] = 0.5;
+  BOOST_TEST(Simulation(scene::parse_scene(doc)).warnings().empty());
+}
+
+BOOST_AUTO_TEST_CASE(extreme_layouts_keep_dt_positive_and_the_run_finite) {
+  const std::vector<std::pair<std::string, json>> layouts = {
+      {"on a node", {{"positions_in_cell", {0.0, 0.5}}}},
+      {"within 1e-9 of a node", {{"positions_in_cell", {1e-9, 0.5}}}},
+      {"nearly coincident", {{"positions_in_cell", {0.5, 0.5 + 1e-9}}}},
+      {"eight per cell", {{"particles_per_cell", 8}}}};
+  for (const char* integrator : {"euler", "rk2"})
+    for (const char* criterion : {"l2", "monotone"})
+      for (const auto& [name, layout] : layouts) {
+        BOOST_TEST_CONTEXT(name << ", " << integrator << ", " << criterion) {
+          json doc = {{"dimension", 1},
+                      {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {40}}}},
+                      {"materials", steel()},
+                      {"bodies", {body(0.4, 1.2, 10.0, layout)}},
+                      {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", "auto"}, {"criterion", criterion}}}};
+          Simulation sim(scene::parse_scene(doc));
+          const double dt = sim.stable_time_step();
+          BOOST_TEST((std::isfinite(dt) && dt > 0));
+          for (int k = 0; k < 200; ++k) sim.step(dt);  // throws on a non-finite state
+          BOOST_TEST(sim.stress().allFinite());
+          BOOST_TEST(sim.energy() <= 0.5 * rho * 0.8 * 100 * (1 + 1e-9));
+        }
+      }
+}
+
+BOOST_AUTO_TEST_CASE(a_cell_emptied_by_motion_keeps_dt_finite) {
+  // Two bars flying apart: cells between them empty; particles cross nodes and share cells.
+  json doc = {{"dimension", 1},
+              {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {60}}}},
+              {"materials", steel()},
+              {"bodies", {body(0.8, 1.2, -200.0, {{"particles_per_cell", 1}}), body(1.2, 1.6, 200.0, {{"particles_per_cell", 1}})}},
+              {"time", {{"end", 1.0}, {"courant", "auto"}}},
+              {"particles_move", true}};
+  Simulation sim(scene::parse_scene(doc));
+  for (int k = 0; k < 400; ++k) {
+    const double dt = sim.stable_time_step();
+    BOOST_TEST_REQUIRE((std::isfinite(dt) && dt > 0));
+    sim.step(dt);
+  }
+  BOOST_TEST(sim.stress().allFinite());
+  BOOST_TEST(sim.velocity().allFinite());
+}

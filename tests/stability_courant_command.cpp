@@ -1,0 +1,130 @@
+// `dgmpm courant` (issue 3, part 3), called with argument vectors.
+#define BOOST_TEST_MODULE stability_courant_command
+#include <boost/test/unit_test.hpp>
+
+#include "stability/courant_command.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+using dgmpm::stability::courant_main;
+
+namespace {
+
+struct Run {
+  int code;
+  std::string out, err;
+};
+
+Run run(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int code = courant_main(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(readable_line) {
+  const Run r = run({"--positions", "0.25,0.75"});
+  BOOST_TEST(r.code == 0);
+  BOOST_TEST(r.err.empty());
+  BOOST_TEST(contains(r.out, "C* = 0.686"), r.out);
+  BOOST_TEST(contains(r.out, "l2, euler, elastic"), r.out);
+  BOOST_TEST(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+  const Run m =
+      run({"--positions", "0.25,0.75", "--criterion", "monotone", "--model", "advection"});
+  BOOST_TEST(m.code == 0);
+  BOOST_TEST(contains(m.out, "C* = 0.428571"), m.out);
+  BOOST_TEST(contains(m.out, "limiting particle"), m.out);
+}
+
+BOOST_AUTO_TEST_CASE(json_object) {
+  const Run r =
+      run({"--positions", "0.6083,0.955", "--masses", "1,1", "--time", "euler", "--json"});
+  BOOST_TEST_REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  BOOST_TEST(std::abs(j.at("courant").get<double>() - 0.7376) < 1e-3);
+  BOOST_TEST(j.at("criterion") == "l2");
+  BOOST_TEST(j.at("time") == "euler");
+  BOOST_TEST(j.at("model") == "elastic");
+  BOOST_TEST((j.at("positions").get<std::vector<double>>() == std::vector<double>{0.6083, 0.955}));
+  BOOST_TEST((j.at("masses").get<std::vector<double>>() == std::vector<double>{1.0, 1.0}));
+  BOOST_TEST(j.contains("critical_theta"));
+  BOOST_TEST(j.at("failing_direction") == "+x");
+
+  const Run m = run({"--positions", "0.5", "--criterion", "monotone", "--time", "rk2", "--json"});
+  BOOST_TEST_REQUIRE(m.code == 0);
+  const auto k = nlohmann::json::parse(m.out);
+  BOOST_TEST(std::abs(k.at("courant").get<double>() - 1.0) < 1e-6);
+  BOOST_TEST(k.at("limiting_particle") == 0);
+  BOOST_TEST((k.at("masses").get<std::vector<double>>() == std::vector<double>{1.0}));
+}
+
+BOOST_AUTO_TEST_CASE(two_particle_map_csv) {
+  const Run r = run({"--map", "3", "--criterion", "monotone"});
+  BOOST_TEST_REQUIRE(r.code == 0);
+  std::istringstream lines(r.out);
+  std::string line;
+  std::getline(lines, line);
+  BOOST_TEST(line == "x1,x2,courant");
+  int rows = 0;
+  double regular = 0.0;
+  while (std::getline(lines, line)) {
+    ++rows;
+    double x1, x2, c;
+    char comma1, comma2;
+    std::istringstream(line) >> x1 >> comma1 >> x2 >> comma2 >> c;
+    BOOST_TEST(c > 0.0);
+    if (std::abs(x1 - 0.5) < 1e-12 && std::abs(x2 - 0.5) < 1e-12) regular = c;
+  }
+  BOOST_TEST(rows == 9);
+  BOOST_TEST(std::abs(regular - 1.0) < 1e-6);  // two coincident particles act as one
+}
+
+BOOST_AUTO_TEST_CASE(invalid_input_is_reported) {
+  const struct {
+    std::vector<std::string> args;
+    std::string message;
+  } cases[] = {
+      {{"--positions", "0.25,1.5"}, "position 2 (1.5) is outside the cell"},
+      {{"--positions=-0.1,0.5"}, "outside the cell"},
+      {{"--positions", "0.25,0.75", "--masses", "1,0"}, "mass 2 (0) must be positive"},
+      {{"--positions", "0.25,0.75", "--masses=1,-2"}, "must be positive"},
+      {{"--positions", "0.25,0.75", "--masses", "1"}, "1 masses for 2 positions"},
+      {{}, "give the particle positions"},
+      {{"--map", "4", "--masses", "1,2,3"}, "--map needs two masses"},
+  };
+  for (const auto& c : cases) {
+    const Run r = run(c.args);
+    BOOST_TEST(r.code != 0, c.message);
+    BOOST_TEST(r.out.empty(), c.message);
+    BOOST_TEST(contains(r.err, c.message), r.err);
+  }
+  // Refused by CLI11 before running.
+  for (const auto& args :
+       std::vector<std::vector<std::string>>{{"--positions", "0.5", "--time", "rk4"},
+                                             {"--positions", "0.5", "--criterion", "energy"},
+                                             {"--positions", "0.5", "--model", "plate"},
+                                             {"--positions", "abc"},
+                                             {"--map", "0"},
+                                             {"--map", "3", "--positions", "0.5"}}) {
+    const Run r = run(args);
+    BOOST_TEST(r.code != 0);
+    BOOST_TEST(!r.err.empty());
+  }
+}
+
+BOOST_AUTO_TEST_CASE(help_documents_every_option) {
+  const Run r = run({"--help"});
+  BOOST_TEST(r.code == 0);
+  for (const char* option :
+       {"--positions", "--masses", "--time", "--criterion", "--model", "--json", "--map"})
+    BOOST_TEST(contains(r.out, option), option);
+}
