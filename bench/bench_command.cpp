@@ -18,7 +18,8 @@ struct BenchArguments {
 
 void add_bench_command(CLI::App& app) {
   auto args = std::make_shared<BenchArguments>();
-  CLI::App* cmd = app.add_subcommand("bench", "Benchmarks: solver throughput (speed is measured here, not in tests)");
+  CLI::App* cmd = app.add_subcommand(
+      "bench", "Benchmarks: solver throughput (speed is measured here, not in tests)");
   cmd->add_option("--particles", args->particles, "Particle counts for the solver benchmark")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);

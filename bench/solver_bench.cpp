@@ -16,14 +16,21 @@ namespace {
 scene::Scene bar_scene(int cells, const std::string& method, const std::string& integrator,
                        bool move) {
   const double length = 1.0;
-  nlohmann::json doc = {
-      {"dimension", 1},
-      {"method", method},
-      {"grid", {{"origin", {0.0}}, {"cell_size", {length / cells}}, {"cells", {cells}}, {"periodic", true}}},
-      {"materials", {{"steel", {{"young", 2e11}, {"density", 7800}}}}},
-      {"bodies", {{{"material", "steel"}, {"box", {{"min", {0.0}}, {"max", {length}}}}, {"particles_per_cell", 1}, {"velocity", {1.0}}}}},
-      {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}}},
-      {"particles_move", move}};
+  nlohmann::json doc = {{"dimension", 1},
+                        {"method", method},
+                        {"grid",
+                         {{"origin", {0.0}},
+                          {"cell_size", {length / cells}},
+                          {"cells", {cells}},
+                          {"periodic", true}}},
+                        {"materials", {{"steel", {{"young", 2e11}, {"density", 7800}}}}},
+                        {"bodies",
+                         {{{"material", "steel"},
+                           {"box", {{"min", {0.0}}, {"max", {length}}}},
+                           {"particles_per_cell", 1},
+                           {"velocity", {1.0}}}}},
+                        {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}}},
+                        {"particles_move", move}};
   return scene::parse_scene(doc, "bench");
 }
 
@@ -47,7 +54,8 @@ double particle_steps_per_second(Simulation& sim, double seconds) {
 
 }  // namespace
 
-void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_counts, double seconds) {
+void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
+                          double seconds) {
   struct Case {
     const char* label;
     const char* method;

@@ -5,5 +5,6 @@
 namespace dgmpm::bench {
 // Particle-steps per second of DGMPM (Euler, RK2; fixed and moving particles) and MPM USL on a
 // periodic bar with one particle per cell, for each particle count.
-void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_counts, double seconds);
+void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
+                          double seconds);
 }  // namespace dgmpm::bench

@@ -25,12 +25,12 @@ enum class MpmVelocityUpdate { flip, pic };
 
 inline const char* to_string(MpmVariant v) {
   switch (v) {
-  case MpmVariant::usl:
-    return "usl";
-  case MpmVariant::usf:
-    return "usf";
-  case MpmVariant::musl:
-    return "musl";
+    case MpmVariant::usl:
+      return "usl";
+    case MpmVariant::usf:
+      return "usf";
+    case MpmVariant::musl:
+      return "musl";
   }
   return "?";
 }
@@ -41,8 +41,8 @@ inline const char* to_string(MpmVelocityUpdate u) {
 
 template <int Dim>
 class Mpm {
-public:
-  static constexpr int npc = 1 << Dim; // nodes of a cell
+ public:
+  static constexpr int npc = 1 << Dim;  // nodes of a cell
   static constexpr int ncomp = ElasticBar::n_comp;
   using Material = ElasticBar::Material;
   using Vec = Eigen::Matrix<double, Dim, 1>;
@@ -71,7 +71,7 @@ public:
     int i = 0;
     for (int l = 0; l < Dim; ++l) {
       int kl = k[l] + ((a >> l) & 1);
-      if (kl == nodes_[l]) kl = 0; // only reachable on a periodic axis
+      if (kl == nodes_[l]) kl = 0;  // only reachable on a periodic axis
       i += kl * stride_[l];
     }
     return i;
@@ -112,7 +112,7 @@ public:
     if (move_particles) move(particles, *v, dt);
   }
 
-private:
+ private:
   // --- 1D elastic bar: particle state (sigma / rho, v), sigma_t = E v_x -------------------------
   static Vec particle_velocity(const ParticleSet& ps, int p) {
     static_assert(Dim == 1, "the MPM constitutive part is the 1D bar; 2D needs its own state");
@@ -269,9 +269,9 @@ private:
 
   Eigen::Matrix<int, npc, Eigen::Dynamic> node_;
   Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
-  Eigen::Matrix<double, npc * Dim, Eigen::Dynamic> grad_; // row a * Dim + l: dS_a / dx_l
+  Eigen::Matrix<double, npc * Dim, Eigen::Dynamic> grad_;  // row a * Dim + l: dS_a / dx_l
   Eigen::VectorXd mass_;
   NodalVectors vel_old_, vel_new_, vel_musl_, force_;
 };
 
-} // namespace dgmpm
+}  // namespace dgmpm

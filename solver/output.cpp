@@ -17,7 +17,8 @@ std::string temporary_name(const std::string& path) {
 void create_directories(const std::string& directory) {
   std::error_code ec;
   fs::create_directories(directory, ec);
-  if (ec) throw std::runtime_error("cannot create output directory " + directory + ": " + ec.message());
+  if (ec)
+    throw std::runtime_error("cannot create output directory " + directory + ": " + ec.message());
 }
 
 void write_atomically(const std::string& path, const std::function<void(std::ostream&)>& fill) {
@@ -51,7 +52,8 @@ void StreamedFile::close() {
   if (!stream_) throw std::runtime_error("error while writing " + temporary_);
   std::error_code ec;
   fs::rename(temporary_, path_, ec);
-  if (ec) throw std::runtime_error("cannot rename " + temporary_ + " to " + path_ + ": " + ec.message());
+  if (ec)
+    throw std::runtime_error("cannot rename " + temporary_ + " to " + path_ + ": " + ec.message());
 }
 
 StreamedFile::~StreamedFile() {

@@ -44,8 +44,10 @@ std::optional<exact::ElasticBarSolution> make_exact(const scene::Scene& scene,
     return exact::ElasticBarSolution::periodic(a, b, m.young, m.density, segments);
   }
   // A bar end inside the grid faces void cells: a free surface.
-  const BoundaryCondition<1> left = a == g.origin[0] ? problem.boundaries[0][0] : BoundaryCondition<1>{};
-  const BoundaryCondition<1> right = b == g.upper(0) ? problem.boundaries[0][1] : BoundaryCondition<1>{};
+  const BoundaryCondition<1> left =
+      a == g.origin[0] ? problem.boundaries[0][0] : BoundaryCondition<1>{};
+  const BoundaryCondition<1> right =
+      b == g.upper(0) ? problem.boundaries[0][1] : BoundaryCondition<1>{};
   return exact::ElasticBarSolution(a, b, m.young, m.density, segments, left, right);
 }
 
@@ -84,13 +86,15 @@ BarProblem make_bar_problem(const scene::Scene& scene) {
   p.grid.cell_size[0] = scene.grid.cell_size[0];
   p.grid.cells[0] = scene.grid.cells[0];
   p.grid.periodic[0] = scene.grid.periodic;
-  for (int side = 0; side < 2; ++side) p.boundaries[0][side] = boundary_of(scene.boundaries[0][side]);
+  for (int side = 0; side < 2; ++side)
+    p.boundaries[0][side] = boundary_of(scene.boundaries[0][side]);
   for (const auto& m : scene.materials) {
     p.materials.push_back({m.young, m.density});
     p.poisson.push_back(m.poisson);
   }
   p.particles.resize(0);
-  for (std::size_t b = 0; b < scene.bodies.size(); ++b) add_body_particles(scene, b, p.grid, p.particles);
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    add_body_particles(scene, b, p.grid, p.particles);
   p.exact = make_exact(scene, p);
   return p;
 }

@@ -25,7 +25,8 @@ void print_human(const scene::Scene& scene, const Simulation& sim, const RunSumm
   if (scene.time.courant_auto)
     std::printf("automatic time step (%s, safety %g): %d layouts analysed\n",
                 scene::to_string(scene.time.criterion), scene.time.safety, s.layouts_analysed);
-  const double drift = s.energy_initial > 0 ? (s.energy_final - s.energy_initial) / s.energy_initial : 0.0;
+  const double drift =
+      s.energy_initial > 0 ? (s.energy_final - s.energy_initial) / s.energy_initial : 0.0;
   std::printf("energy: initial %.12g J, final %.12g J, relative change %.3e\n", s.energy_initial,
               s.energy_final, drift);
   if (s.stress_errors) {

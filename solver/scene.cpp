@@ -19,44 +19,44 @@ namespace dgmpm::scene {
 
 const char* to_string(Method m) {
   switch (m) {
-  case Method::dgmpm:
-    return "dgmpm";
-  case Method::mpm_usl:
-    return "mpm-usl";
-  case Method::mpm_usf:
-    return "mpm-usf";
-  case Method::mpm_musl:
-    return "mpm-musl";
+    case Method::dgmpm:
+      return "dgmpm";
+    case Method::mpm_usl:
+      return "mpm-usl";
+    case Method::mpm_usf:
+      return "mpm-usf";
+    case Method::mpm_musl:
+      return "mpm-musl";
   }
   return "?";
 }
 
 const char* to_string(MpmUpdate u) {
   switch (u) {
-  case MpmUpdate::flip:
-    return "flip";
-  case MpmUpdate::pic:
-    return "pic";
+    case MpmUpdate::flip:
+      return "flip";
+    case MpmUpdate::pic:
+      return "pic";
   }
   return "?";
 }
 
 const char* to_string(Integrator i) {
   switch (i) {
-  case Integrator::euler:
-    return "euler";
-  case Integrator::rk2:
-    return "rk2";
+    case Integrator::euler:
+      return "euler";
+    case Integrator::rk2:
+      return "rk2";
   }
   return "?";
 }
 
 const char* to_string(Criterion c) {
   switch (c) {
-  case Criterion::l2:
-    return "l2";
-  case Criterion::monotone:
-    return "monotone";
+    case Criterion::l2:
+      return "l2";
+    case Criterion::monotone:
+      return "monotone";
   }
   return "?";
 }
@@ -165,7 +165,7 @@ template <class E>
 using Names = std::initializer_list<std::pair<const char*, E>>;
 
 class Parser {
-public:
+ public:
   explicit Parser(std::string source) : source_(std::move(source)) {}
 
   Scene parse(const json& doc) {
@@ -207,7 +207,7 @@ public:
     return s;
   }
 
-private:
+ private:
   std::string source_;
 
   [[noreturn]] void fail(const std::string& path, const std::string& text) const {
@@ -657,30 +657,30 @@ Scene load_scene(const std::string& path) {
   std::vector<Frame> stack;
   const auto on_event = [&](int, json::parse_event_t event, json& parsed) {
     switch (event) {
-    case json::parse_event_t::object_start:
-      stack.push_back({false, {}, 0, {}});
-      break;
-    case json::parse_event_t::array_start:
-      stack.push_back({true, {}, 0, {}});
-      break;
-    case json::parse_event_t::key: {
-      Frame& top = stack.back();
-      top.key = parsed.get<std::string>();
-      if (!top.keys.insert(top.key).second) {
-        std::string where;
-        for (const Frame& f : stack)
-          where = f.array ? index_path(where, f.index) : key_path(where, f.key);
-        throw SceneError(path + ": " + where + ": duplicate key; allowed: each key once");
+      case json::parse_event_t::object_start:
+        stack.push_back({false, {}, 0, {}});
+        break;
+      case json::parse_event_t::array_start:
+        stack.push_back({true, {}, 0, {}});
+        break;
+      case json::parse_event_t::key: {
+        Frame& top = stack.back();
+        top.key = parsed.get<std::string>();
+        if (!top.keys.insert(top.key).second) {
+          std::string where;
+          for (const Frame& f : stack)
+            where = f.array ? index_path(where, f.index) : key_path(where, f.key);
+          throw SceneError(path + ": " + where + ": duplicate key; allowed: each key once");
+        }
+        break;
       }
-      break;
-    }
-    case json::parse_event_t::object_end:
-    case json::parse_event_t::array_end:
-      stack.pop_back();
-      [[fallthrough]];
-    case json::parse_event_t::value:
-      if (!stack.empty() && stack.back().array) ++stack.back().index;
-      break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        stack.pop_back();
+        [[fallthrough]];
+      case json::parse_event_t::value:
+        if (!stack.empty() && stack.back().array) ++stack.back().index;
+        break;
     }
     return true;
   };

@@ -59,7 +59,7 @@ struct TimeSpec {
   bool courant_auto = false;
   double courant = 1.0;  // when not auto
   Criterion criterion = Criterion::l2;
-  double safety = 1.0;   // auto only
+  double safety = 1.0;  // auto only
 };
 
 struct OutputSpec {

@@ -35,8 +35,10 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
   result.boundaries = problem.grid.periodic[0] ? "periodic" : "reflecting";
   result.meaningful = true;
   result.note = problem.grid.periodic[0]
-                    ? "periodic grid: the spectrum is that of the von Neumann analysis on the grid's wavenumbers"
-                    : "free or fixed ends (traction and velocity ends act as free and fixed in the linear part) reflect waves: the spectrum is meaningful";
+                    ? "periodic grid: the spectrum is that of the von Neumann analysis on the "
+                      "grid's wavenumbers"
+                    : "free or fixed ends (traction and velocity ends act as free and fixed in the "
+                      "linear part) reflect waves: the spectrum is meaningful";
 
   Discretisation<Physics> disc;
   disc.build(problem.grid, problem.particles, problem.materials);
@@ -76,7 +78,8 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
   return result;
 }
 
-int scene_courant_command(const std::string& path, bool json, std::ostream& out, std::ostream& err) {
+int scene_courant_command(const std::string& path, bool json, std::ostream& out,
+                          std::ostream& err) {
   try {
     const scene::Scene scene = scene::load_scene(path);
     const SceneSpectrumResult r = analyse_scene_spectrum(scene);
@@ -96,13 +99,15 @@ int scene_courant_command(const std::string& path, bool json, std::ostream& out,
       out << j.dump() << '\n';
       return 0;
     }
-    out << std::fixed << std::setprecision(6) << path << ": largest Courant number with spectral radius <= 1: "
-        << (r.bounded ? "" : ">= ") << r.courant << " (" << scene::to_string(scene.time.integrator)
-        << ", global operator, " << r.unknowns << " unknowns, ARPACK)\n"
+    out << std::fixed << std::setprecision(6) << path
+        << ": largest Courant number with spectral radius <= 1: " << (r.bounded ? "" : ">= ")
+        << r.courant << " (" << scene::to_string(scene.time.integrator) << ", global operator, "
+        << r.unknowns << " unknowns, ARPACK)\n"
         << "boundaries: " << r.boundaries << ": " << r.note << '\n';
     if (!scene.time.courant_auto)
       out << "spectral radius at the scene's Courant number " << std::defaultfloat
-          << scene.time.courant << ": " << std::setprecision(12) << r.radius_at_scene_courant << '\n';
+          << scene.time.courant << ": " << std::setprecision(12) << r.radius_at_scene_courant
+          << '\n';
     return 0;
   } catch (const scene::SceneError& e) {
     err << "dgmpm courant: error: " << e.what() << '\n';

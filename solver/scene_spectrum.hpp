@@ -12,9 +12,9 @@
 namespace dgmpm {
 
 struct SceneSpectrumResult {
-  double courant = 0;          // largest C with rho <= 1 + tolerance on (0, C]
-  double failing_courant = 0;  // first C found failing above it
-  bool bounded = true;         // false: nothing failed up to the search's maximum
+  double courant = 0;                  // largest C with rho <= 1 + tolerance on (0, C]
+  double failing_courant = 0;          // first C found failing above it
+  bool bounded = true;                 // false: nothing failed up to the search's maximum
   double radius_at_scene_courant = 0;  // rho at the scene's own Courant number (fixed Courant only)
   int unknowns = 0;
   int evaluations = 0;

@@ -21,7 +21,8 @@ namespace dgmpm {
 using Physics = ElasticBar;
 
 struct Simulation::Stepper {
-  // DGMPM: the operators of the current configuration and one integrator (no RK2 buffers for Euler).
+  // DGMPM: the operators of the current configuration and one integrator (no RK2 buffers for
+  // Euler).
   Discretisation<Physics> disc;
   std::unique_ptr<DGOperator<Physics>> op;
   std::variant<std::monostate, ForwardEuler<Physics>, HeunRK2<Physics>> integrator;
@@ -33,9 +34,12 @@ namespace {
 
 MpmVariant mpm_variant(scene::Method m) {
   switch (m) {
-    case scene::Method::mpm_usf: return MpmVariant::usf;
-    case scene::Method::mpm_musl: return MpmVariant::musl;
-    default: return MpmVariant::usl;
+    case scene::Method::mpm_usf:
+      return MpmVariant::usf;
+    case scene::Method::mpm_musl:
+      return MpmVariant::musl;
+    default:
+      return MpmVariant::usl;
   }
 }
 
@@ -100,8 +104,8 @@ Simulation::Simulation(const scene::Scene& scene)
   const double h = problem_.grid.cell_size.minCoeff();
   if (scene_.method == scene::Method::dgmpm) {
     stepper_->disc.build(problem_.grid, problem_.particles, problem_.materials);
-    stepper_->op = std::make_unique<DGOperator<Physics>>(problem_.grid, stepper_->disc,
-                                                         problem_.boundaries);
+    stepper_->op =
+        std::make_unique<DGOperator<Physics>>(problem_.grid, stepper_->disc, problem_.boundaries);
     if (scene_.time.integrator == scene::Integrator::rk2)
       stepper_->integrator.emplace<HeunRK2<Physics>>();
     else
@@ -155,7 +159,8 @@ void Simulation::step(double dt) {
         particles.position.row(0) += dt * particles.state.row(Physics::velocity);
         stepper_->disc.build(problem_.grid, particles, problem_.materials);
         if (time_control_->automatic())
-          dt_ = time_control_->time_step(stepper_->disc, particles, problem_.grid.cell_size.minCoeff());
+          dt_ = time_control_->time_step(stepper_->disc, particles,
+                                         problem_.grid.cell_size.minCoeff());
       }
     }
   } catch (const ParticleOutsideGrid& e) {
@@ -277,7 +282,8 @@ RunSummary Simulation::run(const RunOptions& options) {
     double kinetic = 0, elastic = 0;
     for (int i = 0; i < particles.size(); ++i) {
       const auto& m = problem_.materials[particles.material[i]];
-      const double v = particles.state(Physics::velocity, i), s = particles.state(Physics::stress, i);
+      const double v = particles.state(Physics::velocity, i),
+                   s = particles.state(Physics::stress, i);
       kinetic += 0.5 * particles.mass[i] * v * v;
       elastic += 0.5 * particles.mass[i] * s * s / (m.wave_speed() * m.wave_speed());
     }
@@ -312,7 +318,7 @@ RunSummary Simulation::run(const RunOptions& options) {
       }
     }
     if (writes && std::find(scene_.output.times.begin(), scene_.output.times.end(), target) !=
-            scene_.output.times.end()) {
+                      scene_.output.times.end()) {
       char name[64];
       std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index++);
       write_particles(directory + name);

@@ -34,7 +34,7 @@ struct RunSummary {
 
 struct RunOptions {
   std::optional<std::string> output_directory;  // overrides the scene's
-  bool progress = false;                         // progress line on stderr
+  bool progress = false;                        // progress line on stderr
 };
 
 // Errors ||u_h - u||/||u|| with volume-weighted L1 and L2 norms and the max norm over

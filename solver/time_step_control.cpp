@@ -9,9 +9,7 @@
 namespace dgmpm {
 
 TimeStepControl::TimeStepControl(const scene::TimeSpec& time, bool particles_move)
-    : automatic_(time.courant_auto),
-      courant_(time.courant),
-      safety_(time.safety),
+    : automatic_(time.courant_auto), courant_(time.courant), safety_(time.safety),
       quantum_(particles_move ? moving_position_quantum : fixed_position_quantum),
       scheme_(time.integrator == scene::Integrator::rk2 ? stability::TimeScheme::rk2
                                                         : stability::TimeScheme::euler),

@@ -115,7 +115,9 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
 
 }  // namespace
 
-void set_scene_analysis(SceneAnalysis analysis) { scene_analysis() = std::move(analysis); }
+void set_scene_analysis(SceneAnalysis analysis) {
+  scene_analysis() = std::move(analysis);
+}
 
 void add_courant_command(CLI::App& app, std::ostream& out, std::ostream& err) {
   auto options = std::make_shared<CourantOptions>();

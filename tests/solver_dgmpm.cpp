@@ -22,8 +22,10 @@ const double dx = 0.04;
 // Two identical bars [0, 3] and [3, 6] at +-v0, free ends, 150 cells.
 json two_bar(const std::string& method, const std::string& integrator, double courant,
              json layout = {{"particles_per_cell", 1}}) {
-  json bar1 = {{"material", "steel"}, {"box", {{"min", {0.0}}, {"max", {3.0}}}}, {"velocity", {v0}}};
-  json bar2 = {{"material", "steel"}, {"box", {{"min", {3.0}}, {"max", {6.0}}}}, {"velocity", {-v0}}};
+  json bar1 = {
+      {"material", "steel"}, {"box", {{"min", {0.0}}, {"max", {3.0}}}}, {"velocity", {v0}}};
+  json bar2 = {
+      {"material", "steel"}, {"box", {{"min", {3.0}}, {"max", {6.0}}}}, {"velocity", {-v0}}};
   bar1.update(layout);
   bar2.update(layout);
   return {{"dimension", 1},
@@ -61,7 +63,9 @@ void check_exact_at_courant_one(const json& doc) {
 
 BOOST_AUTO_TEST_CASE(two_bar_impact_one_particle_per_cell_is_exact_at_courant_one) {
   for (const char* integrator : {"euler", "rk2"}) {
-    BOOST_TEST_CONTEXT(integrator) { check_exact_at_courant_one(two_bar("dgmpm", integrator, 1.0)); }
+    BOOST_TEST_CONTEXT(integrator) {
+      check_exact_at_courant_one(two_bar("dgmpm", integrator, 1.0));
+    }
   }
 }
 
@@ -73,7 +77,8 @@ BOOST_AUTO_TEST_CASE(the_exact_solution_is_nontrivial_where_it_is_checked) {
   // Guards the test above: the impact stress is -Z v0 between the fronts, and v0 after release.
   Simulation sim(scene::parse_scene(two_bar("dgmpm", "euler", 1.0)));
   sim.advance_to(40 * dx / c);
-  BOOST_TEST(sim.exact_stress(sim.time()).minCoeff() == -Z * v0, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(sim.exact_stress(sim.time()).minCoeff() == -Z * v0,
+             boost::test_tools::tolerance(1e-12));
   BOOST_TEST(sim.stress().minCoeff() == -Z * v0, boost::test_tools::tolerance(1e-12));
 }
 
@@ -82,8 +87,11 @@ BOOST_AUTO_TEST_CASE(rigid_translation_keeps_its_velocity) {
     json doc = {{"dimension", 1},
                 {"grid", {{"origin", {0.0}}, {"cell_size", {1.0}}, {"cells", {20}}}},
                 {"materials", {{"m", {{"young", 1e4}, {"density", 1.0}}}}},
-                {"bodies", {{{"material", "m"}, {"box", {{"min", {2.0}}, {"max", {3.0}}}},
-                             {"positions_in_cell", {0.5}}, {"velocity", {5.0}}}}},
+                {"bodies",
+                 {{{"material", "m"},
+                   {"box", {{"min", {2.0}}, {"max", {3.0}}}},
+                   {"positions_in_cell", {0.5}},
+                   {"velocity", {5.0}}}}},
                 {"time", {{"end", 1.3}, {"integrator", integrator}, {"courant", 0.9}}},
                 {"particles_move", true}};
     Simulation sim(scene::parse_scene(doc));
@@ -103,9 +111,16 @@ BOOST_AUTO_TEST_CASE(bimaterial_bar_plateaus_match_the_impedance_formulas) {
   json doc = {
       {"dimension", 1},
       {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {150}}}},
-      {"materials", {{"steel", {{"young", E}, {"density", rho}}}, {"alu", {{"young", E2}, {"density", rho2}}}}},
-      {"bodies", {{{"material", "steel"}, {"box", {{"min", {0.0}}, {"max", {3.0}}}}, {"particles_per_cell", 1}, {"velocity", {v}}},
-                  {{"material", "alu"}, {"box", {{"min", {3.0}}, {"max", {6.0}}}}, {"particles_per_cell", 1}}}},
+      {"materials",
+       {{"steel", {{"young", E}, {"density", rho}}}, {"alu", {{"young", E2}, {"density", rho2}}}}},
+      {"bodies",
+       {{{"material", "steel"},
+         {"box", {{"min", {0.0}}, {"max", {3.0}}}},
+         {"particles_per_cell", 1},
+         {"velocity", {v}}},
+        {{"material", "alu"},
+         {"box", {{"min", {3.0}}, {"max", {6.0}}}},
+         {"particles_per_cell", 1}}}},
       {"time", {{"end", 1.0}, {"integrator", "euler"}, {"courant", 1.0}}}};
   Simulation sim(scene::parse_scene(doc));
   const double t = 1.5 / std::max(c, c2);  // fronts about 1.5 m from the interface

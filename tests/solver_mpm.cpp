@@ -115,7 +115,7 @@ struct Impact {
   Bar ps;
   double t = 0.0;
   double energy0 = 0.0;
-  double max_stress = 0.0; // over the whole history, Pa
+  double max_stress = 0.0;  // over the whole history, Pa
 
   explicit Impact(double v_left = 0.0) {
     const double vl = v_left == 0.0 ? v0 : v_left;
@@ -157,7 +157,7 @@ struct Impact {
   }
 };
 
-} // namespace
+}  // namespace
 
 BOOST_AUTO_TEST_CASE(node_numbering_is_continuous_and_wraps_on_periodic_axes) {
   Mpm<1> open(make_grid(0.0, 0.1, 10), Boundaries<1>{}, {steel}, MpmVariant::usl,
@@ -176,7 +176,7 @@ BOOST_AUTO_TEST_CASE(node_numbering_is_continuous_and_wraps_on_periodic_axes) {
   Mpm<2> plate(g, Boundaries<2>{}, {steel}, MpmVariant::usl, MpmVelocityUpdate::flip);
   BOOST_TEST(plate.num_nodes() == 4 * 4);
   BOOST_TEST(plate.node({3, 2}, 0) == 3 + 2 * 4);
-  BOOST_TEST(plate.node({3, 2}, 3) == 0 + 3 * 4); // x wraps, y does not
+  BOOST_TEST(plate.node({3, 2}, 3) == 0 + 3 * 4);  // x wraps, y does not
 }
 
 // A uniform velocity with zero stress is an exact solution: it must stay so to round-off while
@@ -258,7 +258,7 @@ BOOST_AUTO_TEST_CASE(momentum_is_conserved_with_free_ends) {
   for (const auto& combo : all_combos)
     for (bool move : {false, true}) {
       BOOST_TEST_CONTEXT(name(combo) << (move ? " moving" : " fixed")) {
-        Impact impact(0.7 * 4e9 / (2.0 * steel.impedance())); // unequal speeds: P != 0
+        Impact impact(0.7 * 4e9 / (2.0 * steel.impedance()));  // unequal speeds: P != 0
         const double p0 = momentum(impact.ps);
         const double scale = impact.ps.mass.sum() * impact.v0;
         impact.run(combo, 0.5, move ? 80 : 400, move);
@@ -318,7 +318,7 @@ BOOST_AUTO_TEST_CASE(standing_wave_convergence) {
 BOOST_AUTO_TEST_CASE(impact_at_courant_half_approaches_the_exact_plateau) {
   struct Expect {
     Combo combo;
-    double plateau; // bound on the max relative plateau error (about 1.5 x measured)
+    double plateau;  // bound on the max relative plateau error (about 1.5 x measured)
   };
   const std::vector<Expect> expect = {{{MpmVariant::usl, MpmVelocityUpdate::flip}, 0.012},
                                       {{MpmVariant::usl, MpmVelocityUpdate::pic}, 1e-3},
@@ -336,7 +336,7 @@ BOOST_AUTO_TEST_CASE(impact_at_courant_half_approaches_the_exact_plateau) {
                                        << impact.max_stress / impact.sigma);
       BOOST_TEST(err < e.plateau);
       BOOST_TEST(l1 < 0.2);
-      BOOST_TEST(impact.max_stress < 1.6 * impact.sigma); // oscillations, but bounded
+      BOOST_TEST(impact.max_stress < 1.6 * impact.sigma);  // oscillations, but bounded
       BOOST_TEST(energy(impact.ps, steel) < 1.01 * impact.energy0);
     }
   }
@@ -509,7 +509,7 @@ BOOST_AUTO_TEST_CASE(particle_leaving_the_grid_throws) {
       {0.25, 0.98}, dx, steel, [](double) { return 5.0; }, [](double) { return 0.0; });
   Mpm<1> mpm(make_grid(0.0, dx, 10), Boundaries<1>{}, {steel}, MpmVariant::usl,
              MpmVelocityUpdate::flip);
-  const double dt = 1.1e-3; // 5.5 mm per step
+  const double dt = 1.1e-3;  // 5.5 mm per step
   bool thrown = false;
   for (int n = 0; n < 10 && !thrown; ++n) {
     try {
@@ -519,7 +519,7 @@ BOOST_AUTO_TEST_CASE(particle_leaving_the_grid_throws) {
       BOOST_TEST(e.particle == 1);
       BOOST_TEST(std::string(e.what()).find("particle 1 at x = 1.002 is outside the grid") !=
                  std::string::npos);
-      BOOST_TEST(n == 3); // 0.98 + 4 * 0.0055 = 1.002 > 1
+      BOOST_TEST(n == 3);  // 0.98 + 4 * 0.0055 = 1.002 > 1
     }
   }
   BOOST_TEST(thrown);
@@ -536,7 +536,7 @@ BOOST_AUTO_TEST_CASE(steps_do_not_allocate) {
     const long before = mallocs.load();
     Eigen::VectorXd probe(1000);
     std::vector<int> probe2(1000);
-    BOOST_TEST(mallocs.load() - before >= 2); // the counter does see Eigen and operator new
+    BOOST_TEST(mallocs.load() - before >= 2);  // the counter does see Eigen and operator new
   }
   for (const auto& combo : all_combos) {
     Impact impact;

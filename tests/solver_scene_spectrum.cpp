@@ -13,10 +13,13 @@ using nlohmann::json;
 
 namespace {
 json bar(int cells, json layout, bool periodic, const std::string& integrator) {
-  json body = {{"material", "steel"}, {"box", {{"min", {0.0}}, {"max", {cells * 0.04}}}}, {"velocity", {1.0}}};
+  json body = {{"material", "steel"},
+               {"box", {{"min", {0.0}}, {"max", {cells * 0.04}}}},
+               {"velocity", {1.0}}};
   body.update(layout);
   return {{"dimension", 1},
-          {"grid", {{"origin", {0.0}}, {"cell_size", {0.04}}, {"cells", {cells}}, {"periodic", periodic}}},
+          {"grid",
+           {{"origin", {0.0}}, {"cell_size", {0.04}}, {"cells", {cells}}, {"periodic", periodic}}},
           {"materials", {{"steel", {{"young", 2e11}, {"density", 7800}}}}},
           {"bodies", {body}},
           {"time", {{"end", 1e-3}, {"integrator", integrator}, {"courant", 0.5}}}};
@@ -27,7 +30,8 @@ BOOST_AUTO_TEST_CASE(one_particle_per_cell_admits_courant_one) {
   for (bool periodic : {true, false})
     for (const char* integrator : {"euler", "rk2"}) {
       BOOST_TEST_CONTEXT((periodic ? "periodic " : "free ends ") << integrator) {
-        const auto r = analyse_scene_spectrum(scene::parse_scene(bar(24, {{"particles_per_cell", 1}}, periodic, integrator)));
+        const auto r = analyse_scene_spectrum(
+            scene::parse_scene(bar(24, {{"particles_per_cell", 1}}, periodic, integrator)));
         BOOST_TEST(r.courant == 1.0, boost::test_tools::tolerance(1e-5));
         BOOST_TEST(r.unknowns == 48);
         BOOST_TEST(r.radius_at_scene_courant <= 1.0 + 1e-9);
@@ -37,9 +41,12 @@ BOOST_AUTO_TEST_CASE(one_particle_per_cell_admits_courant_one) {
 
 BOOST_AUTO_TEST_CASE(periodic_scene_limit_is_at_least_the_von_neumann_limit) {
   // The grid's wavenumbers are a subset of (0, pi]: its limit cannot be below the continuous one.
-  const auto r = analyse_scene_spectrum(scene::parse_scene(bar(32, {{"particles_per_cell", 2}}, true, "euler")));
-  const double vn = stability::admissible_courant(stability::regular_layout(2), stability::TimeScheme::euler,
-                                                  stability::Criterion::l2).courant;
+  const auto r = analyse_scene_spectrum(
+      scene::parse_scene(bar(32, {{"particles_per_cell", 2}}, true, "euler")));
+  const double vn =
+      stability::admissible_courant(stability::regular_layout(2), stability::TimeScheme::euler,
+                                    stability::Criterion::l2)
+          .courant;
   BOOST_TEST(vn == 0.686, boost::test_tools::tolerance(2e-3));
   BOOST_TEST(r.courant >= vn - 1e-5);
   BOOST_TEST(r.courant < 1.0);

@@ -18,7 +18,9 @@ const double c = std::sqrt(E / rho), Z = std::sqrt(E * rho);
 const double v0 = 4e9 / (2 * Z);
 const double dx = 0.04;
 
-json steel() { return {{"steel", {{"young", E}, {"density", rho}}}}; }
+json steel() {
+  return {{"steel", {{"young", E}, {"density", rho}}}};
+}
 
 json body(double lo, double hi, double v, json layout) {
   json b = {{"material", "steel"}, {"box", {{"min", {lo}}, {"max", {hi}}}}, {"velocity", {v}}};
@@ -30,12 +32,14 @@ json body(double lo, double hi, double v, json layout) {
 json moving_two_bar(json courant, const std::string& criterion = "") {
   json time = {{"end", 150 * dx / c}, {"integrator", "euler"}, {"courant", courant}};
   if (!criterion.empty()) time["criterion"] = criterion;
-  return {{"dimension", 1},
-          {"grid", {{"origin", {-0.4}}, {"cell_size", {dx}}, {"cells", {170}}}},
-          {"materials", steel()},
-          {"bodies", {body(0, 3, v0, {{"particles_per_cell", 1}}), body(3, 6, -v0, {{"particles_per_cell", 1}})}},
-          {"time", time},
-          {"particles_move", true}};
+  return {
+      {"dimension", 1},
+      {"grid", {{"origin", {-0.4}}, {"cell_size", {dx}}, {"cells", {170}}}},
+      {"materials", steel()},
+      {"bodies",
+       {body(0, 3, v0, {{"particles_per_cell", 1}}), body(3, 6, -v0, {{"particles_per_cell", 1}})}},
+      {"time", time},
+      {"particles_move", true}};
 }
 
 struct Extremes {
@@ -90,11 +94,14 @@ BOOST_AUTO_TEST_CASE(moving_two_bar_impact_with_auto_steps_stays_bounded) {
 }
 
 BOOST_AUTO_TEST_CASE(mixed_layouts_take_the_two_particle_limit) {
-  json doc = {{"dimension", 1},
-              {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {100}}, {"periodic", true}}},
-              {"materials", steel()},
-              {"bodies", {body(0, 2, 1.0, {{"particles_per_cell", 2}}), body(2, 4, -1.0, {{"particles_per_cell", 1}})}},
-              {"time", {{"end", 1000 * 0.686 * dx / c}, {"courant", "auto"}}}};
+  json doc = {
+      {"dimension", 1},
+      {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {100}}, {"periodic", true}}},
+      {"materials", steel()},
+      {"bodies",
+       {body(0, 2, 1.0, {{"particles_per_cell", 2}}),
+        body(2, 4, -1.0, {{"particles_per_cell", 1}})}},
+      {"time", {{"end", 1000 * 0.686 * dx / c}, {"courant", "auto"}}}};
   Simulation sim(scene::parse_scene(doc));
   // Published: 2 regular particles per cell, Euler, L2: 0.686 +- 0.001.
   BOOST_TEST(std::abs(sim.stable_time_step() * c / dx - 0.686) <= 1e-3);
@@ -108,12 +115,17 @@ BOOST_AUTO_TEST_CASE(mixed_layouts_take_the_two_particle_limit) {
 
 BOOST_AUTO_TEST_CASE(bimaterial_dt_is_set_by_the_faster_material) {
   const double E2 = 7e10, rho2 = 2700, c2 = std::sqrt(E2 / rho2);  // aluminium: c2 > c
-  json doc = {{"dimension", 1},
-              {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {100}}}},
-              {"materials", {{"steel", {{"young", E}, {"density", rho}}}, {"alu", {{"young", E2}, {"density", rho2}}}}},
-              {"bodies", {body(0, 2, 10.0, {{"particles_per_cell", 1}}),
-                          {{"material", "alu"}, {"box", {{"min", {2.0}}, {"max", {4.0}}}}, {"particles_per_cell", 1}}}},
-              {"time", {{"end", 1e-4}, {"courant", "auto"}}}};
+  json doc = {
+      {"dimension", 1},
+      {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {100}}}},
+      {"materials",
+       {{"steel", {{"young", E}, {"density", rho}}}, {"alu", {{"young", E2}, {"density", rho2}}}}},
+      {"bodies",
+       {body(0, 2, 10.0, {{"particles_per_cell", 1}}),
+        {{"material", "alu"},
+         {"box", {{"min", {2.0}}, {"max", {4.0}}}},
+         {"particles_per_cell", 1}}}},
+      {"time", {{"end", 1e-4}, {"courant", "auto"}}}};
   Simulation sim(scene::parse_scene(doc));
   BOOST_TEST(c2 > c);
   BOOST_TEST(sim.stable_time_step() == dx / c2, boost::test_tools::tolerance(1e-9));
@@ -147,7 +159,11 @@ BOOST_AUTO_TEST_CASE(extreme_layouts_keep_dt_positive_and_the_run_finite) {
                       {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {40}}}},
                       {"materials", steel()},
                       {"bodies", {body(0.4, 1.2, 10.0, layout)}},
-                      {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", "auto"}, {"criterion", criterion}}}};
+                      {"time",
+                       {{"end", 1.0},
+                        {"integrator", integrator},
+                        {"courant", "auto"},
+                        {"criterion", criterion}}}};
           Simulation sim(scene::parse_scene(doc));
           const double dt = sim.stable_time_step();
           BOOST_TEST((std::isfinite(dt) && dt > 0));
@@ -163,7 +179,9 @@ BOOST_AUTO_TEST_CASE(a_cell_emptied_by_motion_keeps_dt_finite) {
   json doc = {{"dimension", 1},
               {"grid", {{"origin", {0.0}}, {"cell_size", {dx}}, {"cells", {60}}}},
               {"materials", steel()},
-              {"bodies", {body(0.8, 1.2, -200.0, {{"particles_per_cell", 1}}), body(1.2, 1.6, 200.0, {{"particles_per_cell", 1}})}},
+              {"bodies",
+               {body(0.8, 1.2, -200.0, {{"particles_per_cell", 1}}),
+                body(1.2, 1.6, 200.0, {{"particles_per_cell", 1}})}},
               {"time", {{"end", 1.0}, {"courant", "auto"}}},
               {"particles_move", true}};
   Simulation sim(scene::parse_scene(doc));

@@ -15,10 +15,14 @@ enum class BoundaryKind { free, fixed, traction, velocity };
 
 inline const char* to_string(BoundaryKind k) {
   switch (k) {
-    case BoundaryKind::free: return "free";
-    case BoundaryKind::fixed: return "fixed";
-    case BoundaryKind::traction: return "traction";
-    case BoundaryKind::velocity: return "velocity";
+    case BoundaryKind::free:
+      return "free";
+    case BoundaryKind::fixed:
+      return "fixed";
+    case BoundaryKind::traction:
+      return "traction";
+    case BoundaryKind::velocity:
+      return "velocity";
   }
   return "?";
 }

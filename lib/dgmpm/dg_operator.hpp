@@ -33,7 +33,8 @@ class DGOperator {
     for (int l = 0; l < dim; ++l) {
       for (int side = 0; side < 2; ++side) {
         neighbour_[l][side].resize(grid.num_cells());
-        for (int c = 0; c < grid.num_cells(); ++c) neighbour_[l][side][c] = grid.neighbour(c, l, side);
+        for (int c = 0; c < grid.num_cells(); ++c)
+          neighbour_[l][side][c] = grid.neighbour(c, l, side);
       }
       face_weight_[l] = 1.0;
       for (int k = 0; k < dim; ++k)
@@ -125,7 +126,7 @@ class DGOperator {
       if (here || there) {
         for (int a = 0; a < npc; ++a) {
           if (!(a & bit)) continue;
-          const int im = c * npc + a;              // plus-side node of cell c
+          const int im = c * npc + a;                        // plus-side node of cell c
           const int ip = n >= 0 ? n * npc + (a ^ bit) : -1;  // matching minus-side node of n
           if (here && there) {
             Physics::godunov(axis, qn.col(im), disc_.cell_material(c), qn.col(ip),

@@ -79,9 +79,11 @@ class Discretisation {
         const auto g = Shape::gradients(local_.col(p), grid.cell_size);
         shape_.col(e) = s;
         node_mass_.segment<npc>(c * npc) += m * s;
-        for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] += m * g.row(l).transpose() * s.transpose();
+        for (int l = 0; l < dim; ++l)
+          stiffness_[c * dim + l] += m * g.row(l).transpose() * s.transpose();
         const Material& mp = materials[particles.material[p]];
-        cell_material_[c] = cell_mass == 0.0 ? mp : Physics::blend(cell_material_[c], cell_mass, mp, m);
+        cell_material_[c] =
+            cell_mass == 0.0 ? mp : Physics::blend(cell_material_[c], cell_mass, mp, m);
         cell_mass += m;
       }
       occupied_[c] = cell_mass > 0.0;

@@ -41,7 +41,7 @@ struct BarState {
 };
 
 class ElasticBarSolution {
-public:
+ public:
   // Bar [a, b] with the given ends. The segments (any order) must cover [a, b] without gap or
   // overlap; ends may differ by at most 1e-12 (b - a) from their neighbours' (rounding of scene
   // arithmetic), the breakpoints kept are a, the x0 of the 2nd to last segments, and b.
@@ -131,7 +131,7 @@ public:
   double right() const { return b_; }
   bool is_periodic() const { return periodic_; }
 
-private:
+ private:
   enum Family { plus = 0, minus = 1 };
 
   struct End {
@@ -199,21 +199,21 @@ private:
     End e;
     const std::string where = std::string("exact bar: ") + name + " end: ";
     switch (bc.kind) {
-    case BoundaryKind::free:
-      return e;
-    case BoundaryKind::fixed:
-      e.s = 1.0;
-      return e;
-    case BoundaryKind::traction:
-      e.s = -1.0;
-      e.gain = 2.0;
-      break;
-    case BoundaryKind::velocity:
-      e.s = 1.0;
-      e.gain = (side == 0 ? -2.0 : 2.0) * z_;
-      break;
-    default:
-      throw std::invalid_argument(where + "unknown boundary kind");
+      case BoundaryKind::free:
+        return e;
+      case BoundaryKind::fixed:
+        e.s = 1.0;
+        return e;
+      case BoundaryKind::traction:
+        e.s = -1.0;
+        e.gain = 2.0;
+        break;
+      case BoundaryKind::velocity:
+        e.s = 1.0;
+        e.gain = (side == 0 ? -2.0 : 2.0) * z_;
+        break;
+      default:
+        throw std::invalid_argument(where + "unknown boundary kind");
     }
     const TimeTable<1>& tt = bc.value;
     if (tt.values.empty() || tt.values.size() != tt.times.size())

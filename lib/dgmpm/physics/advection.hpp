@@ -35,9 +35,12 @@ struct Advection {
   // Inflow value for traction/velocity kinds, zero for fixed, outflow (copy) for free.
   static State ghost(const BoundaryCondition<Dim>& bc, double t, const State& q, const Material&) {
     switch (bc.kind) {
-      case BoundaryKind::free: return q;
-      case BoundaryKind::fixed: return State::Zero();
-      default: return State(bc.value(t)[0]);
+      case BoundaryKind::free:
+        return q;
+      case BoundaryKind::fixed:
+        return State::Zero();
+      default:
+        return State(bc.value(t)[0]);
     }
   }
   static State void_ghost(const State& q, const Material&) { return q; }

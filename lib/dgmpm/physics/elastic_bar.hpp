@@ -20,7 +20,8 @@ struct ElasticBar {
    public:
     Material() : Material(1.0, 1.0) {}
     Material(double young, double density)
-        : young(young), density(density), c_(std::sqrt(young / density)), z_(std::sqrt(young * density)) {}
+        : young(young), density(density), c_(std::sqrt(young / density)),
+          z_(std::sqrt(young * density)) {}
     double young, density;
     double wave_speed() const { return c_; }
     double impedance() const { return z_; }
@@ -37,7 +38,9 @@ struct ElasticBar {
 
   static double max_wave_speed(const Material& m) { return m.wave_speed(); }
 
-  static State specific(double sigma, double v, const Material& m) { return {sigma / m.density, v}; }
+  static State specific(double sigma, double v, const Material& m) {
+    return {sigma / m.density, v};
+  }
   static double stress_of(const State& q, double density) { return q[0] * density; }
   static double velocity_of(const State& q) { return q[1]; }
 
@@ -63,15 +66,21 @@ struct ElasticBar {
   static State ghost(const BoundaryCondition<1>& bc, double t, const State& q, const Material& m) {
     const double sigma = q[0] * m.density, v = q[1];
     switch (bc.kind) {
-      case BoundaryKind::free: return specific(-sigma, v, m);
-      case BoundaryKind::fixed: return specific(sigma, -v, m);
-      case BoundaryKind::traction: return specific(2.0 * bc.value(t)[0] - sigma, v, m);
-      case BoundaryKind::velocity: return specific(sigma, 2.0 * bc.value(t)[0] - v, m);
+      case BoundaryKind::free:
+        return specific(-sigma, v, m);
+      case BoundaryKind::fixed:
+        return specific(sigma, -v, m);
+      case BoundaryKind::traction:
+        return specific(2.0 * bc.value(t)[0] - sigma, v, m);
+      case BoundaryKind::velocity:
+        return specific(sigma, 2.0 * bc.value(t)[0] - v, m);
     }
     return q;
   }
   // A void neighbour cell is a free surface.
-  static State void_ghost(const State& q, const Material& m) { return specific(-q[0] * m.density, q[1], m); }
+  static State void_ghost(const State& q, const Material& m) {
+    return specific(-q[0] * m.density, q[1], m);
+  }
 
   // Kinetic plus elastic energy per unit mass.
   static double energy_per_mass(const State& q, const Material& m) {
