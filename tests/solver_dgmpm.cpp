@@ -3,6 +3,7 @@
 #define BOOST_TEST_MODULE dgmpm_1d
 #include <boost/test/unit_test.hpp>
 
+#include "common/founding_paper.hpp"
 #include "solver/simulation.hpp"
 
 #include <nlohmann/json.hpp>
@@ -14,10 +15,7 @@ using nlohmann::json;
 
 namespace {
 
-const double E = 2e11, rho = 7800;
-const double c = std::sqrt(E / rho), Z = std::sqrt(E * rho);
-const double v0 = 4e9 / (2 * Z);  // sigma = 4e9 in the founding document
-const double dx = 0.04;
+using namespace dgmpm::test;
 
 // Two identical bars [0, 3] and [3, 6] at +-v0, free ends, 150 cells.
 json two_bar(const std::string& method, const std::string& integrator, double courant,

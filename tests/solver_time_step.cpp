@@ -2,6 +2,7 @@
 #define BOOST_TEST_MODULE time_step
 #include <boost/test/unit_test.hpp>
 
+#include "common/founding_paper.hpp"
 #include "solver/simulation.hpp"
 
 #include <nlohmann/json.hpp>
@@ -13,10 +14,7 @@ using nlohmann::json;
 
 namespace {
 
-const double E = 2e11, rho = 7800;
-const double c = std::sqrt(E / rho), Z = std::sqrt(E * rho);
-const double v0 = 4e9 / (2 * Z);
-const double dx = 0.04;
+using namespace dgmpm::test;
 
 json steel() {
   return {{"steel", {{"young", E}, {"density", rho}}}};
