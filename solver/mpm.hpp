@@ -5,6 +5,8 @@
 // Node numbering, transfers and boundary conditions are dimension-generic; the constitutive part
 // (particle stress and velocity layout, internal force, stress update) is the 1D elastic bar.
 
+#include "solver/scene.hpp"
+
 #include <dgmpm/boundary.hpp>
 #include <dgmpm/discretisation.hpp>
 #include <dgmpm/grid.hpp>
@@ -21,7 +23,8 @@
 namespace dgmpm {
 
 enum class MpmVariant { usl, usf, musl };
-enum class MpmVelocityUpdate { flip, pic };
+// The scene's own choice, FLIP or PIC.
+using MpmVelocityUpdate = scene::MpmUpdate;
 
 inline const char* to_string(MpmVariant v) {
   switch (v) {
@@ -33,10 +36,6 @@ inline const char* to_string(MpmVariant v) {
       return "musl";
   }
   return "?";
-}
-
-inline const char* to_string(MpmVelocityUpdate u) {
-  return u == MpmVelocityUpdate::flip ? "flip" : "pic";
 }
 
 template <int Dim>

@@ -41,26 +41,6 @@ const char* to_string(MpmUpdate u) {
   return "?";
 }
 
-const char* to_string(Integrator i) {
-  switch (i) {
-    case Integrator::euler:
-      return "euler";
-    case Integrator::rk2:
-      return "rk2";
-  }
-  return "?";
-}
-
-const char* to_string(Criterion c) {
-  switch (c) {
-    case Criterion::l2:
-      return "l2";
-    case Criterion::monotone:
-      return "monotone";
-  }
-  return "?";
-}
-
 namespace {
 
 using json = nlohmann::json;

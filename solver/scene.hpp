@@ -4,6 +4,7 @@
 // names the key path, the value found and what is allowed.
 
 #include <dgmpm/boundary.hpp>
+#include <stability/options.hpp>
 
 #include <array>
 #include <cstddef>
@@ -21,8 +22,10 @@ struct SceneError : std::runtime_error {
 
 enum class Method { dgmpm, mpm_usl, mpm_usf, mpm_musl };
 enum class MpmUpdate { flip, pic };
-enum class Integrator { euler, rk2 };
-enum class Criterion { l2, monotone };
+// The stability analysis' own names: a scene asks for exactly what stability/ analyses.
+using Integrator = stability::TimeScheme;
+using Criterion = stability::Criterion;
+using stability::to_string;
 
 struct GridSpec {
   std::vector<double> origin, cell_size;  // one entry per dimension
@@ -87,8 +90,6 @@ Scene load_scene(const std::string& path);  // SceneError also for unreadable or
 
 const char* to_string(Method);
 const char* to_string(MpmUpdate);
-const char* to_string(Integrator);
-const char* to_string(Criterion);
 
 // One particle a body generates. Its position on each axis is exactly
 // origin + (cell + positions_in_cell[local]) * cell_size, evaluated in that order, and the body's

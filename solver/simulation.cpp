@@ -123,9 +123,8 @@ Simulation::Simulation(const scene::Scene& scene)
     for (int p = 0; p < problem_.particles.size(); ++p)
       c_max = std::max(c_max, problem_.materials[problem_.particles.material[p]].wave_speed());
     dt_ = scene_.time.courant * h / c_max;
-    stepper_->mpm = std::make_unique<Mpm<1>>(
-        problem_.grid, problem_.boundaries, problem_.materials, mpm_variant(scene_.method),
-        scene_.update == scene::MpmUpdate::pic ? MpmVelocityUpdate::pic : MpmVelocityUpdate::flip);
+    stepper_->mpm = std::make_unique<Mpm<1>>(problem_.grid, problem_.boundaries, problem_.materials,
+                                             mpm_variant(scene_.method), scene_.update);
   }
 }
 

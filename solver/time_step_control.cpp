@@ -11,10 +11,7 @@ namespace dgmpm {
 TimeStepControl::TimeStepControl(const scene::TimeSpec& time, bool particles_move)
     : automatic_(time.courant_auto), courant_(time.courant), safety_(time.safety),
       quantum_(particles_move ? moving_position_quantum : fixed_position_quantum),
-      scheme_(time.integrator == scene::Integrator::rk2 ? stability::TimeScheme::rk2
-                                                        : stability::TimeScheme::euler),
-      criterion_(time.criterion == scene::Criterion::monotone ? stability::Criterion::monotone
-                                                              : stability::Criterion::l2) {}
+      scheme_(time.integrator), criterion_(time.criterion) {}
 
 void TimeStepControl::fill_key(const Disc& disc, const BarParticles& particles, int c) {
   entries_.clear();
