@@ -218,11 +218,14 @@ Eigen::VectorXd Simulation::velocity() const {
   return problem_.particles.state.row(Physics::velocity).transpose();
 }
 
-double Simulation::energy() const {
+Simulation::Energy Simulation::energy_parts() const {
   const auto& p = problem_.particles;
-  double e = 0;
-  for (int i = 0; i < p.size(); ++i)
-    e += p.mass[i] * Physics::energy_per_mass(p.state.col(i), problem_.materials[p.material[i]]);
+  Energy e;
+  for (int i = 0; i < p.size(); ++i) {
+    e.kinetic += p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i));
+    e.elastic += p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i),
+                                                              problem_.materials[p.material[i]]);
+  }
   return e;
 }
 
@@ -278,16 +281,9 @@ RunSummary Simulation::run(const RunOptions& options) {
   output::StreamedFile history;
   const auto& particles = problem_.particles;
   const auto write_history = [&](double dt) {
-    double kinetic = 0, elastic = 0;
-    for (int i = 0; i < particles.size(); ++i) {
-      const auto& m = problem_.materials[particles.material[i]];
-      const double v = particles.state(Physics::velocity, i),
-                   s = particles.state(Physics::stress, i);
-      kinetic += 0.5 * particles.mass[i] * v * v;
-      elastic += 0.5 * particles.mass[i] * s * s / (m.wave_speed() * m.wave_speed());
-    }
-    history.stream() << steps_ << ',' << time_ << ',' << dt << ',' << kinetic << ',' << elastic
-                     << ',' << kinetic + elastic << '\n';
+    const Energy e = energy_parts();
+    history.stream() << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic
+                     << ',' << e.total() << '\n';
   };
   if (writes) {
     history = output::StreamedFile(directory + "/energy.csv");

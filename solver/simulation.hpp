@@ -75,7 +75,13 @@ class Simulation {
 
   Eigen::VectorXd stress() const;
   Eigen::VectorXd velocity() const;
-  double energy() const;
+  // Kinetic and elastic energy of the particles (per unit cross-section).
+  struct Energy {
+    double kinetic = 0, elastic = 0;
+    double total() const { return kinetic + elastic; }
+  };
+  Energy energy_parts() const;
+  double energy() const { return energy_parts().total(); }
   // Requires an exact solution. Evaluated at the particles' initial positions: with moving
   // particles (small strain) fields are compared in the material coordinate.
   Eigen::VectorXd exact_stress(double t) const;

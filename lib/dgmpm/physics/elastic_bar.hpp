@@ -82,9 +82,13 @@ struct ElasticBar {
     return specific(-q[0] * m.density, q[1], m);
   }
 
-  // Kinetic plus elastic energy per unit mass.
+  // Energy per unit mass: kinetic v^2 / 2, elastic sigma^2 / (2 E rho) = s^2 rho / (2 E).
+  static double kinetic_energy_per_mass(const State& q) { return 0.5 * q[1] * q[1]; }
+  static double elastic_energy_per_mass(const State& q, const Material& m) {
+    return 0.5 * q[0] * q[0] * (m.density / m.young);
+  }
   static double energy_per_mass(const State& q, const Material& m) {
-    return 0.5 * (q[1] * q[1] + q[0] * q[0] * (m.density / m.young));
+    return kinetic_energy_per_mass(q) + elastic_energy_per_mass(q, m);
   }
 };
 
