@@ -80,6 +80,13 @@ void add_body_particles(const scene::Scene& scene, std::size_t body_index, const
   }
 }
 
+double BarProblem::max_wave_speed() const {
+  double c = 0;
+  for (int p = 0; p < particles.size(); ++p)
+    c = std::max(c, materials[particles.material[p]].wave_speed());
+  return c;
+}
+
 BarProblem make_bar_problem(const scene::Scene& scene) {
   BarProblem p;
   p.grid.origin[0] = scene.grid.origin[0];

@@ -24,6 +24,9 @@ struct BarProblem {
   std::vector<double> poisson;  // per material, unused in 1D but kept for reports
   Particles<1, ElasticBar::n_comp> particles;
   std::optional<exact::ElasticBarSolution> exact;
+
+  // Largest wave speed among the materials the particles carry.
+  double max_wave_speed() const;
 };
 
 // Throws scene::SceneError when the scene's pieces do not fit together (e.g. an exact solution

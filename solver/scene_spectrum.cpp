@@ -46,9 +46,7 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
   std::variant<ForwardEuler<Physics>, HeunRK2<Physics>> integrator;
   if (scene.time.integrator == scene::Integrator::rk2) integrator.emplace<HeunRK2<Physics>>();
 
-  double c_max = 0;
-  for (int c = 0; c < disc.num_cells(); ++c)
-    if (disc.occupied(c)) c_max = std::max(c_max, disc.cell_material(c).wave_speed());
+  const double c_max = problem.max_wave_speed();
   const double h = problem.grid.cell_size.minCoeff();
   const int n = Physics::n_comp * problem.particles.size();
   result.unknowns = n;

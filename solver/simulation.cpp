@@ -119,10 +119,7 @@ Simulation::Simulation(const scene::Scene& scene)
                               ": time.courant: value \"auto\" is not available for method \"" +
                               scene::to_string(scene_.method) +
                               "\"; allowed: a positive number (the stability analysis is DGMPM's)");
-    double c_max = 0;
-    for (int p = 0; p < problem_.particles.size(); ++p)
-      c_max = std::max(c_max, problem_.materials[problem_.particles.material[p]].wave_speed());
-    dt_ = scene_.time.courant * h / c_max;
+    dt_ = scene_.time.courant * h / problem_.max_wave_speed();
     stepper_->mpm = std::make_unique<Mpm<1>>(problem_.grid, problem_.boundaries, problem_.materials,
                                              mpm_variant(scene_.method), scene_.update);
   }
