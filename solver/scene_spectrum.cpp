@@ -33,7 +33,6 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
                                     : BoundaryKind::free;
   }
   result.boundaries = problem.grid.periodic[0] ? "periodic" : "reflecting";
-  result.meaningful = true;
   result.note = problem.grid.periodic[0]
                     ? "periodic grid: the spectrum is that of the von Neumann analysis on the "
                       "grid's wavenumbers"
@@ -90,7 +89,6 @@ int scene_courant_command(const std::string& path, bool json, std::ostream& out,
                        {"criterion", "l2"},
                        {"unknowns", r.unknowns},
                        {"boundaries", r.boundaries},
-                       {"meaningful", r.meaningful},
                        {"note", r.note}};
       if (!scene.time.courant_auto)
         j["spectral_radius_at_scene_courant"] = r.radius_at_scene_courant;

@@ -19,8 +19,7 @@ struct SceneSpectrumResult {
   int unknowns = 0;
   int evaluations = 0;
   std::string boundaries;  // periodic / reflecting
-  bool meaningful = true;  // false: boundaries whose operator is far from normal
-  std::string note;
+  std::string note;        // why the spectrum speaks for these boundaries
 };
 
 // Throws scene::SceneError for a scene this does not apply to (MPM).

@@ -28,23 +28,25 @@ void TimeStepControl::fill_key(const Disc& disc, const BarParticles& particles, 
   for (const auto& entry : entries_) key_.push_back(entry.second / unit);
 }
 
+stability::CellLayout TimeStepControl::key_layout() const {
+  const auto n = static_cast<std::ptrdiff_t>(key_.size() / 2);
+  return {std::vector<double>(key_.begin(), key_.begin() + n),
+          std::vector<double>(key_.begin() + n, key_.end())};
+}
+
 stability::CellLayout TimeStepControl::layout_of(const Disc& disc, const BarParticles& particles,
                                                  int c) {
   fill_key(disc, particles, c);
-  const auto n = static_cast<std::ptrdiff_t>(entries_.size());
-  return {std::vector<double>(key_.begin(), key_.begin() + n),
-          std::vector<double>(key_.begin() + n, key_.end())};
+  return key_layout();
 }
 
 double TimeStepControl::cell_courant(const Disc& disc, const BarParticles& particles, int c) {
   fill_key(disc, particles, c);
   const auto it = cache_.find(key_);
   if (it != cache_.end()) return it->second;
-  const auto n = static_cast<std::ptrdiff_t>(entries_.size());
-  const stability::CellLayout layout{std::vector<double>(key_.begin(), key_.begin() + n),
-                                     std::vector<double>(key_.begin() + n, key_.end())};
   const double courant =
-      stability::admissible_courant(layout, scheme_, criterion_, stability::Model::elastic).courant;
+      stability::admissible_courant(key_layout(), scheme_, criterion_, stability::Model::elastic)
+          .courant;
   cache_.emplace(key_, courant);
   return courant;
 }

@@ -62,6 +62,7 @@ class TimeStepControl {
   std::vector<double> key_;
 
   void fill_key(const Disc& disc, const BarParticles& particles, int c);
+  stability::CellLayout key_layout() const;  // the layout key_ describes
 };
 
 }  // namespace dgmpm
