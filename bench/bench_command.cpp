@@ -23,7 +23,9 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--particles", args->particles, "Particle counts for the solver benchmark")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--seconds", args->seconds, "Time spent per case")->check(CLI::PositiveNumber);
+  cmd->add_option("--seconds", args->seconds,
+                  "Time spent per case (and per auto time step cost measurement)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--what", args->what, "Benchmarks to run: solver, courant")
       ->delimiter(',')
       ->check(CLI::IsMember({"solver", "courant"}));

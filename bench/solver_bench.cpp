@@ -1,10 +1,13 @@
 #include "bench/solver_bench.hpp"
 
+#include "solver/problem.hpp"
 #include "solver/simulation.hpp"
+#include "solver/time_step_control.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <dgmpm/discretisation.hpp>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 
@@ -13,9 +16,15 @@ namespace dgmpm::bench {
 namespace {
 
 // A periodic steel bar carrying a sine wave: every cell holds one particle, nothing leaves.
+// `auto_courant`: "courant": "auto" with the l2 criterion instead of a fixed 0.5.
 scene::Scene bar_scene(int cells, const std::string& method, const std::string& integrator,
-                       bool move) {
+                       bool move, bool auto_courant = false) {
   const double length = 1.0;
+  nlohmann::json time = {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}};
+  if (auto_courant) {
+    time["courant"] = "auto";
+    time["criterion"] = "l2";
+  }
   nlohmann::json doc = {{"dimension", 1},
                         {"method", method},
                         {"grid",
@@ -29,27 +38,77 @@ scene::Scene bar_scene(int cells, const std::string& method, const std::string& 
                            {"box", {{"min", {0.0}}, {"max", {length}}}},
                            {"particles_per_cell", 1},
                            {"velocity", {1.0}}}}},
-                        {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}}},
+                        {"time", time},
                         {"particles_move", move}};
   return scene::parse_scene(doc, "bench");
 }
 
-// Best of several timed batches of steps (the minimum is the least disturbed by other load).
-double particle_steps_per_second(Simulation& sim, double seconds) {
+// Calls per second of `call`: best of several timed batches (the minimum time is the least
+// disturbed by other load), after one warm-up call (buffers allocated, caches filled).
+template <class Call>
+double best_calls_per_second(Call&& call, double seconds) {
   using clock = std::chrono::steady_clock;
-  const double dt = sim.stable_time_step();
-  sim.step(dt);  // warm-up: buffers allocated
+  call();
   int batch = 1;
   double best = 0.0, spent = 0.0;
   while (spent < seconds) {
     const auto t0 = clock::now();
-    for (int k = 0; k < batch; ++k) sim.step(dt);
+    for (int k = 0; k < batch; ++k) call();
     const double s = std::chrono::duration<double>(clock::now() - t0).count();
     spent += s;
-    best = std::max(best, batch * static_cast<double>(sim.particles().size()) / s);
+    best = std::max(best, batch / s);
     if (s < 0.05) batch *= 2;
   }
   return best;
+}
+
+// With "courant": "auto" the step length changes as particles move: each step takes the one the
+// previous step computed.
+double particle_steps_per_second(Simulation& sim, double seconds) {
+  const bool fresh_dt = sim.scene().time.courant_auto;
+  const double dt = sim.stable_time_step();
+  const double steps_per_second =
+      best_calls_per_second([&] { sim.step(fresh_dt ? sim.stable_time_step() : dt); }, seconds);
+  return steps_per_second * static_cast<double>(sim.particles().size());
+}
+
+// The moving auto run, kept for the time-step cost table.
+struct AutoRun {
+  int particles = 0;
+  double particle_steps_per_second = 0;
+  long steps = 0;
+  int layouts_analysed = 0;
+  Particles<1, ElasticBar::n_comp> final_particles;
+};
+
+// Per particle: the operator rebuild of a moving step, the automatic time step with a warm cache
+// (both on the particles as the moving auto run left them) and the run's full step.
+void print_time_step_cost(std::ostream& out, const std::vector<AutoRun>& runs, double seconds) {
+  out << "auto time step cost: ns per particle for rebuild, dt (warm cache), full step\n";
+  out << std::right << std::setw(12) << "particles" << std::setw(12) << "rebuild" << std::setw(18)
+      << "dt (warm cache)" << std::setw(12) << "full step" << std::setw(10) << "steps"
+      << std::setw(20) << "layouts analysed" << '\n';
+  for (const AutoRun& run : runs) {
+    const scene::Scene scene = bar_scene(run.particles, "dgmpm", "euler", true, true);
+    BarProblem problem = make_bar_problem(scene);
+    problem.particles = run.final_particles;
+    Discretisation<ElasticBar> disc;
+    const double h = problem.grid.cell_size.minCoeff();
+    const double n = static_cast<double>(problem.particles.size());
+    const double rebuilds = best_calls_per_second(
+        [&] { disc.build(problem.grid, problem.particles, problem.materials); }, seconds);
+    TimeStepControl control(scene.time, true);
+    double dt = 0;
+    const double dts =
+        best_calls_per_second([&] { dt = control.time_step(disc, problem.particles, h); }, seconds);
+    const auto ns = [n](double per_second) { return 1e9 / (per_second * n); };
+    out << std::setw(12) << run.particles << std::fixed << std::setprecision(2) << std::setw(12)
+        << ns(rebuilds) << std::setw(18) << ns(dts) << std::setw(12)
+        << 1e9 / run.particle_steps_per_second << std::defaultfloat << std::setw(10) << run.steps
+        << std::setw(20) << run.layouts_analysed << '\n';
+  }
+  out << "(rebuild and dt on the particles as the moving auto run left them; full step and\n"
+         " layouts analysed (cache misses, about 0.03-0.8 ms each) from that run)\n";
 }
 
 }  // namespace
@@ -61,22 +120,29 @@ void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_co
     const char* method;
     const char* integrator;
     bool move;
+    bool auto_courant;
   };
-  const Case cases[] = {{"dgmpm euler fixed", "dgmpm", "euler", false},
-                        {"dgmpm rk2 fixed", "dgmpm", "rk2", false},
-                        {"dgmpm euler moving", "dgmpm", "euler", true},
-                        {"mpm-usl flip fixed", "mpm-usl", "euler", false}};
+  const Case cases[] = {{"dgmpm euler fixed", "dgmpm", "euler", false, false},
+                        {"dgmpm rk2 fixed", "dgmpm", "rk2", false, false},
+                        {"dgmpm euler moving", "dgmpm", "euler", true, false},
+                        {"dgmpm euler moving auto", "dgmpm", "euler", true, true},
+                        {"mpm-usl flip fixed", "mpm-usl", "euler", false, false}};
+  std::vector<AutoRun> auto_runs;
   out << "solver throughput (one core, one particle per cell, periodic bar)\n";
-  out << std::left << std::setw(22) << "case" << std::right << std::setw(12) << "particles"
+  out << std::left << std::setw(26) << "case" << std::right << std::setw(12) << "particles"
       << std::setw(22) << "particle-steps/s" << '\n';
   for (const Case& c : cases)
     for (int n : particle_counts) {
-      Simulation sim(bar_scene(n, c.method, c.integrator, c.move));
+      Simulation sim(bar_scene(n, c.method, c.integrator, c.move, c.auto_courant));
       const double rate = particle_steps_per_second(sim, seconds);
-      out << std::left << std::setw(22) << c.label << std::right << std::setw(12) << n
+      out << std::left << std::setw(26) << c.label << std::right << std::setw(12) << n
           << std::setw(22) << std::scientific << std::setprecision(3) << rate << std::defaultfloat
           << '\n';
+      if (c.move && c.auto_courant)
+        auto_runs.push_back(
+            {n, rate, sim.steps(), sim.time_step_control()->layouts_analysed(), sim.particles()});
     }
+  if (!auto_runs.empty()) print_time_step_cost(out, auto_runs, seconds);
 }
 
 }  // namespace dgmpm::bench

@@ -62,7 +62,8 @@ class Simulation {
   double stable_time_step() const { return dt_; }
   // DGMPM only (empty for MPM).
   const std::optional<TimeStepControl>& time_step_control() const { return time_control_; }
-  // Set up: a fixed Courant number above the admissible one of some cell's layout.
+  // Set up: a fixed Courant number above the admissible one of some cell's layout. Any time: the
+  // first cell holding more than a full cell's mass (see warn_if_overfull_cell).
   const std::vector<std::string>& warnings() const { return warnings_; }
   // One step of length dt; moves particles and rebuilds the operators when the scene asks.
   // Throws std::runtime_error naming the step, time, particle and cell on a non-finite state or
@@ -93,6 +94,7 @@ class Simulation {
   double step_towards(double target);
   void check_finite() const;
   void warn_if_above_admissible();
+  void warn_if_overfull_cell(long step, double t);
   void write_particles(const std::string& path) const;
 
   scene::Scene scene_;
@@ -103,6 +105,7 @@ class Simulation {
   std::vector<std::string> warnings_;
   double time_ = 0, dt_ = 0;
   long steps_ = 0;
+  bool overfull_warned_ = false;
 };
 
 }  // namespace dgmpm

@@ -13,13 +13,23 @@ TimeStepControl::TimeStepControl(const scene::TimeSpec& time, bool particles_mov
       quantum_(particles_move ? moving_position_quantum : fixed_position_quantum),
       scheme_(time.integrator), criterion_(time.criterion) {}
 
+double TimeStepControl::quantise_position(double xi, double quantum) {
+  const double d = std::min(xi, 1.0 - xi);              // distance to the nearest node
+  if (!(d > 0.0)) return xi;                            // on a node (or not a number): as it is
+  if (d < 0.5 * quantum) return xi <= 0.5 ? 0.0 : 1.0;  // below the resolution: on the node
+  int exponent = 0;
+  std::frexp(d, &exponent);  // d in [2^(exponent - 1), 2^exponent)
+  const double step = std::min(quantum, std::ldexp(1.0, exponent - 1 - node_distance_bits));
+  const double rounded = std::round(d / step) * step;  // >= 2^8 steps: never 0
+  return xi <= 0.5 ? rounded : 1.0 - rounded;
+}
+
 void TimeStepControl::fill_key(const Disc& disc, const BarParticles& particles, int c) {
   entries_.clear();
   for (int e = disc.cell_begin(c); e < disc.cell_end(c); ++e) {
     const int p = disc.entry_particle(e);
-    double xi = disc.particle_local(p)[0];
-    xi = std::round(xi / quantum_) * quantum_;
-    entries_.emplace_back(xi, particles.mass[p]);
+    entries_.emplace_back(quantise_position(disc.particle_local(p)[0], quantum_),
+                          particles.mass[p]);
   }
   std::sort(entries_.begin(), entries_.end());
   const double unit = entries_.front().second;  // the analysis rescales masses to a full cell
@@ -40,35 +50,40 @@ stability::CellLayout TimeStepControl::layout_of(const Disc& disc, const BarPart
   return key_layout();
 }
 
-double TimeStepControl::cell_courant(const Disc& disc, const BarParticles& particles, int c) {
+double TimeStepControl::cell_courant(const Disc& disc, const BarParticles& particles, int c,
+                                     double cell_volume) {
+  const double small_cell = std::min(1.0, fill(disc, c, cell_volume));
   fill_key(disc, particles, c);
   const auto it = cache_.find(key_);
-  if (it != cache_.end()) return it->second;
+  if (it != cache_.end()) return small_cell * it->second;
   const double courant =
       stability::admissible_courant(key_layout(), scheme_, criterion_, stability::Model::elastic)
           .courant;
   cache_.emplace(key_, courant);
-  return courant;
+  return small_cell * courant;
 }
 
 TimeStepControl::Limit TimeStepControl::smallest_admissible(const Disc& disc,
-                                                            const BarParticles& particles) {
+                                                            const BarParticles& particles,
+                                                            double cell_volume) {
   Limit limit;
   limit.courant = std::numeric_limits<double>::infinity();
   for (int c = 0; c < disc.num_cells(); ++c) {
     if (!disc.occupied(c)) continue;
-    const double cs = cell_courant(disc, particles, c);
-    if (cs < limit.courant) limit = {cs, c, layout_of(disc, particles, c)};
+    const double cs = cell_courant(disc, particles, c, cell_volume);
+    if (cs < limit.courant)
+      limit = {cs, c, fill(disc, c, cell_volume), layout_of(disc, particles, c)};
   }
   return limit;
 }
 
 double TimeStepControl::time_step(const Disc& disc, const BarParticles& particles, double h) {
+  // 1D: h is the cell's volume.
   double dt = std::numeric_limits<double>::infinity();
   for (int c = 0; c < disc.num_cells(); ++c) {
     if (!disc.occupied(c)) continue;
     const double speed = disc.cell_material(c).wave_speed();
-    const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c) : courant_;
+    const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c, h) : courant_;
     dt = std::min(dt, cs * h / speed);
   }
   return dt;

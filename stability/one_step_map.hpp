@@ -37,6 +37,10 @@ struct OneStepMap {
   Model model = Model::advection;
   int degree = 1;
   std::vector<StencilFamily> families;
+  // Round-off level of the coefficients: about 1e-15 / the smallest nodal mass share.
+  double round_off = 0.0;
+  // What round-off can add to a margin computed from this map (criteria tolerances start here).
+  double round_off_level() const;
 };
 
 // Throws std::invalid_argument for an invalid layout, std::logic_error if lib's step is not the

@@ -102,6 +102,8 @@ class Discretisation {
   const Material& cell_material(int c) const { return cell_material_[c]; }
   const Stiffness& stiffness(int c, int axis) const { return stiffness_[c * dim + axis]; }
   double node_mass(int i) const { return node_mass_[i]; }
+  // Mass of cell c's particles (the sum of its lumped nodal masses).
+  double cell_mass(int c) const { return node_mass_.template segment<npc>(c * npc).sum(); }
   double inverse_mass(int i) const { return inv_mass_[i]; }
   // i itself for a node with mass; for a massless node of an occupied cell, the node of the same
   // cell that stands in for it; -1 for the nodes of a void cell.
