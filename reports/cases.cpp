@@ -120,6 +120,7 @@ RunRow run_scene(const nlohmann::json& document, std::optional<double> energy_gr
       }
       row.energy_drift =
           s.energy_initial > 0 ? (s.energy_final - s.energy_initial) / s.energy_initial : nan;
+      row.warning = s.warnings.empty() ? "" : s.warnings.front();
     }
   } catch (const std::exception& e) {
     row.failure = e.what();

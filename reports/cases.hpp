@@ -48,6 +48,7 @@ struct RunRow {
   double energy_drift = 0;             // (E_end - E_0) / E_0
   bool stable = false;
   std::string failure;  // why not stable
+  std::string warning;  // the run's first warning (above C*, over-full cell), if any
 };
 
 // Runs a scene; short runs are repeated (best time kept) so that timings are not just noise.
