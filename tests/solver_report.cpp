@@ -132,6 +132,13 @@ BOOST_AUTO_TEST_CASE(stiff_cases_are_tabulated) {
   // reports, not a property of the report.
   BOOST_TEST(stiff.front().stable);
   BOOST_TEST(stiff.front().max_error < 1e-10);
-  // The contrast row runs above the layout's admissible Courant number.
+  // The contrast row runs above the layout's admissible Courant number, and its note says so.
   BOOST_TEST(!stiff.back().stable);
+  BOOST_TEST(stiff.back().warning.find("is above the admissible") != std::string::npos);
+  BOOST_TEST(r.markdown.find("| Courant number 1 is above the admissible 0.686141 |") !=
+             std::string::npos);
+  // Moving 2 ppc particles pile up: the note names the first over-full cell.
+  for (const RunRow& row : stiff)
+    if (row.label.find("moving particles, 2 ppc") != std::string::npos)
+      BOOST_TEST(row.warning.find("times a full cell's mass") != std::string::npos);
 }
