@@ -153,7 +153,7 @@ class Parser {
     s.source = source_;
     check_object(doc, "",
                  {"dimension", "method", "update", "grid", "materials", "bodies", "boundaries",
-                  "time", "particles_move", "exact", "output"});
+                  "time", "particles_move", "fill_correction", "exact", "output"});
     s.dimension = parse_dimension(require(doc, "", "dimension", "1"));
     if (const json* m = find(doc, "method"))
       s.method = choice<Method>(*m, "method",
@@ -178,6 +178,11 @@ class Parser {
     if (const json* b = find(doc, "boundaries")) parse_boundaries(*b, s);
     if (const json* p = find(doc, "particles_move"))
       s.particles_move = boolean(*p, "particles_move");
+    if (const json* f = find(doc, "fill_correction")) {
+      s.fill_correction = boolean(*f, "fill_correction");
+      if (s.fill_correction && s.method != Method::dgmpm)
+        refuse("fill_correction", *f, "is a DGMPM option", "false with MPM methods");
+    }
     if (const json* e = find(doc, "exact")) {
       choice<int>(*e, "exact", {{"bar", 0}});
       s.exact = "bar";

@@ -80,6 +80,7 @@ struct Scene {
   BoundarySpec boundaries[3][2];  // [axis][side]: xmin, xmax, ymin, ...
   TimeSpec time;
   bool particles_move = false;
+  bool fill_correction = false;      // DGMPM: pseudo-stiffness scaled to the cell's volume
   std::optional<std::string> exact;  // "bar"
   OutputSpec output;
   std::string source;  // file name, for messages

@@ -103,6 +103,7 @@ Simulation::Simulation(const scene::Scene& scene)
   reference_position_ = problem_.particles.position;
   const double h = problem_.grid.cell_size.minCoeff();
   if (scene_.method == scene::Method::dgmpm) {
+    stepper_->disc.set_fill_correction(scene_.fill_correction);
     stepper_->disc.build(problem_.grid, problem_.particles, problem_.materials);
     stepper_->op =
         std::make_unique<DGOperator<Physics>>(problem_.grid, stepper_->disc, problem_.boundaries);
@@ -113,7 +114,7 @@ Simulation::Simulation(const scene::Scene& scene)
     time_control_.emplace(scene_.time, scene_.particles_move);
     dt_ = time_control_->time_step(stepper_->disc, problem_.particles, h);
     if (!time_control_->automatic()) warn_if_above_admissible();
-    warn_if_overfull_cell(0, 0.0);
+    if (!scene_.fill_correction) warn_if_overfull_cell(0, 0.0);
   } else {
     if (scene_.time.courant_auto)
       throw scene::SceneError(scene_.source +
@@ -146,7 +147,8 @@ void Simulation::warn_if_above_admissible() {
 // A cell whose particles carry more than rho times its volume (moving particles piling up) breaks
 // the scheme's consistency: the pseudo-stiffness term scales with the cell's mass, the face fluxes
 // do not, so a constant state changes at a rate (fill - 1) F / (rho h) there, however small dt is.
-// No time step restores monotonicity then; the run says so once, naming where it began.
+// No time step restores monotonicity then; the run says so once, naming where it began (unless
+// the scene asks for the fill correction, which removes the cause).
 void Simulation::warn_if_overfull_cell(long step, double t) {
   const auto& disc = stepper_->disc;
   const double volume = problem_.grid.cell_size.prod();
@@ -157,7 +159,8 @@ void Simulation::warn_if_overfull_cell(long step, double t) {
     std::ostringstream s;
     s << format_step(step, t) << ": cell " << c << " holds " << std::setprecision(6) << fill
       << " times a full cell's mass; the operators do not preserve constant states in an "
-         "over-full cell, so new extrema can appear whatever the time step";
+         "over-full cell, so new extrema can appear whatever the time step (\"fill_correction\": "
+         "true restores them)";
     warnings_.push_back(s.str());
     overfull_warned_ = true;
     return;
@@ -179,7 +182,8 @@ void Simulation::step(double dt) {
       if (scene_.particles_move) {
         particles.position.row(0) += dt * particles.state.row(Physics::velocity);
         stepper_->disc.build(problem_.grid, particles, problem_.materials);
-        if (!overfull_warned_) warn_if_overfull_cell(steps_ + 1, time_ + dt);
+        if (!overfull_warned_ && !scene_.fill_correction)
+          warn_if_overfull_cell(steps_ + 1, time_ + dt);
         if (time_control_->automatic())
           dt_ = time_control_->time_step(stepper_->disc, particles,
                                          problem_.grid.cell_size.minCoeff());

@@ -11,6 +11,7 @@
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/time_integration.hpp>
 
+#include <cmath>
 #include <vector>
 
 using namespace dgmpm;
@@ -26,7 +27,8 @@ struct Layout {
 };
 
 // A periodic bar of 6 cells in a uniform state, one Euler step; returns the states after it.
-Eigen::Matrix2Xd step_uniform_state(const std::vector<Layout>& layout, Particles<1, 2>& particles) {
+Eigen::Matrix2Xd step_uniform_state(const std::vector<Layout>& layout, Particles<1, 2>& particles,
+                                    bool fill_correction = false) {
   Grid<1> grid;
   grid.cell_size << h;
   grid.cells = {6};
@@ -43,6 +45,7 @@ Eigen::Matrix2Xd step_uniform_state(const std::vector<Layout>& layout, Particles
   }
   const std::vector<ElasticBar::Material> materials{{E, rho}};
   Discretisation<ElasticBar> disc;
+  disc.set_fill_correction(fill_correction);
   disc.build(grid, particles, materials);
   const Boundaries<1> boundaries{};
   const DGOperator<ElasticBar> op(grid, disc, boundaries);
@@ -100,4 +103,45 @@ BOOST_AUTO_TEST_CASE(an_overfull_cell_changes_a_constant_state_at_a_rate_set_by_
     ++in_cell_2;
   }
   BOOST_TEST(in_cell_2 == 2);
+}
+
+BOOST_AUTO_TEST_CASE(the_fill_correction_preserves_constant_states_in_any_cell) {
+  // Over-full (2 cells' mass), part-full (a quarter) and full cells, with the correction on.
+  for (double share : {1.0, 0.125, 0.5}) {
+    BOOST_TEST_CONTEXT("fill " << 2 * share) {
+      Particles<1, 2> particles;
+      const auto q =
+          step_uniform_state(one_per_cell_except_cell_2(0.25, 0.6, share), particles, true);
+      for (int p = 0; p < particles.size(); ++p) {
+        BOOST_TEST(q(0, p) * rho == sigma0, boost::test_tools::tolerance(1e-13));
+        BOOST_TEST(q(1, p) == v0, boost::test_tools::tolerance(1e-13));
+      }
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(the_fill_correction_conserves_momentum) {
+  // A non-uniform state on the over-full layout: total momentum unchanged by a step (periodic).
+  Particles<1, 2> particles;
+  const auto layout = one_per_cell_except_cell_2(0.25, 0.6, 1.0);
+  step_uniform_state(layout, particles, true);  // sets up positions and masses
+  Grid<1> grid;
+  grid.cell_size << h;
+  grid.cells = {6};
+  grid.periodic = {true};
+  for (int p = 0; p < particles.size(); ++p)
+    particles.state.col(p) << std::sin(1.0 + p) / rho, std::cos(2.0 * p);
+  const double before = particles.mass.dot(particles.state.row(1).transpose());
+  const Eigen::Matrix2Xd initial = particles.state;
+  const std::vector<ElasticBar::Material> materials{{E, rho}};
+  Discretisation<ElasticBar> disc;
+  disc.set_fill_correction(true);
+  disc.build(grid, particles, materials);
+  const Boundaries<1> boundaries{};
+  const DGOperator<ElasticBar> op(grid, disc, boundaries);
+  ForwardEuler<ElasticBar> euler;
+  euler.step(op, particles.state, particles.mass, 0.0, dt);
+  const double after = particles.mass.dot(particles.state.row(1).transpose());
+  BOOST_TEST(std::abs(after - before) <= 1e-13 * particles.mass.sum());
+  BOOST_TEST((particles.state - initial).norm() > 1e-3 * initial.norm());  // a real step
 }

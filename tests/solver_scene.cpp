@@ -184,6 +184,7 @@ BOOST_AUTO_TEST_CASE(defaults) {
   BOOST_TEST((s.time.criterion == Criterion::l2));
   BOOST_TEST(s.time.safety == 1.0);
   BOOST_TEST(!s.particles_move);
+  BOOST_TEST(!s.fill_correction);
   BOOST_TEST(!s.exact.has_value());
   BOOST_TEST(s.output.directory.empty());
   BOOST_TEST(s.output.times == std::vector<double>{1.0});
@@ -316,6 +317,13 @@ BOOST_AUTO_TEST_CASE(refuses_wrong_types) {
   doc = base();
   doc["particles_move"] = 1;
   check_refused(doc, {"particles_move: value 1 has the wrong type"});
+  doc = base();
+  doc["fill_correction"] = "yes";
+  check_refused(doc, {"fill_correction: value \"yes\" has the wrong type"});
+  doc = base();
+  doc["method"] = "mpm-usl";
+  doc["fill_correction"] = true;
+  check_refused(doc, {"fill_correction: value true is a DGMPM option", "false with MPM methods"});
   doc = base();
   doc["time"]["end"] = "6e-4";
   check_refused(doc, {"time.end: value \"6e-4\" has the wrong type", "a number > 0"});

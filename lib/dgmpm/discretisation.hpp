@@ -39,6 +39,15 @@ class Discretisation {
   using Stiffness = Eigen::Matrix<double, npc, npc>;
   static constexpr double massless_share = 1e-10;
 
+  // Fill correction (off by default: method.md's pseudo-stiffness). A cell whose particles carry
+  // m_c != rho V (moving particles piling up, a body ending inside the cell) has a volume term
+  // that scales with m_c while its face fluxes do not, so constant states are not preserved there
+  // (tests/lib_consistency.cpp). With the correction each cell's K is scaled by rho V / m_c:
+  // K F^s then integrates over the cell's volume, constant states are preserved, and momentum is
+  // still conserved (the columns of K^T still sum to zero). Full cells are unchanged.
+  void set_fill_correction(bool on) { fill_correction_ = on; }
+  bool fill_correction() const { return fill_correction_; }
+
   // Rebuilds from the particles' current positions. Storage is reused: no allocation once the
   // sizes are reached. Throws ParticleOutsideGrid.
   void build(const Grid<dim>& grid, const Particles<dim, ncomp>& particles,
@@ -87,7 +96,12 @@ class Discretisation {
         cell_mass += m;
       }
       occupied_[c] = cell_mass > 0.0;
-      if (occupied_[c]) set_node_sources(c, cell_mass);
+      if (!occupied_[c]) continue;
+      set_node_sources(c, cell_mass);
+      if (fill_correction_) {
+        const double full = Physics::density(cell_material_[c]) * grid.cell_volume();
+        for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] *= full / cell_mass;
+      }
     }
   }
 
@@ -149,6 +163,7 @@ class Discretisation {
   std::vector<Material> cell_material_;
   std::vector<char> occupied_;
   bool has_massless_ = false;
+  bool fill_correction_ = false;
 };
 
 }  // namespace dgmpm

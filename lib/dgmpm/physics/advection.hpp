@@ -22,6 +22,8 @@ struct Advection {
     return {(ma * a.speed + mb * b.speed) / (ma + mb)};
   }
   static double max_wave_speed(const Material& m) { return m.speed.cwiseAbs().maxCoeff(); }
+  // Mass per unit volume of a full cell: advected particles carry their volume as mass.
+  static double density(const Material&) { return 1.0; }
 
   static State specific_flux(int axis, const State& q, const Material& m) {
     return State(m.speed[axis] * q[0]);

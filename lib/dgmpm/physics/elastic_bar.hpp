@@ -37,6 +37,7 @@ struct ElasticBar {
   }
 
   static double max_wave_speed(const Material& m) { return m.wave_speed(); }
+  static double density(const Material& m) { return m.density; }
 
   static State specific(double sigma, double v, const Material& m) {
     return {sigma / m.density, v};
