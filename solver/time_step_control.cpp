@@ -57,6 +57,8 @@ stability::CellLayout TimeStepControl::layout_of(const Disc& disc, const BarPart
 double TimeStepControl::cell_courant(const Disc& disc, const BarParticles& particles, int c,
                                      double cell_volume) {
   const double small_cell = std::min(1.0, fill(disc, c, cell_volume));
+  if (disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_courant_ > 0.0)
+    return small_cell * lone_particle_courant_;  // the common case, without building a key
   fill_key(disc, particles, c);
   const auto it = cache_.find(key_);
   if (it != cache_.end()) return small_cell * it->second;
@@ -64,6 +66,7 @@ double TimeStepControl::cell_courant(const Disc& disc, const BarParticles& parti
       stability::admissible_courant(key_layout(), scheme_, criterion_, stability::Model::elastic)
           .courant;
   cache_.emplace(key_, courant);
+  if (key_.size() == 2) lone_particle_courant_ = courant;
   return small_cell * courant;
 }
 

@@ -81,6 +81,7 @@ class TimeStepControl {
   stability::TimeScheme scheme_;
   stability::Criterion criterion_;
   std::map<std::vector<double>, double> cache_;  // key: positions then relative masses
+  double lone_particle_courant_ = -1;            // the one-particle entry, once analysed
   std::vector<std::pair<double, double>> entries_;
   std::vector<double> key_;
 
