@@ -26,13 +26,24 @@ struct Layout {
   double xi, mass_share;  // position in the cell, mass over rho h
 };
 
-// A periodic bar of 6 cells in a uniform state, one Euler step; returns the states after it.
-Eigen::Matrix2Xd step_uniform_state(const std::vector<Layout>& layout, Particles<1, 2>& particles,
-                                    bool fill_correction = false) {
+// One Euler step of lib's operators on a periodic bar of 6 cells.
+void euler_step(Particles<1, 2>& particles, bool fill_correction) {
   Grid<1> grid;
   grid.cell_size << h;
   grid.cells = {6};
   grid.periodic = {true};
+  const std::vector<ElasticBar::Material> materials{{E, rho}};
+  Discretisation<ElasticBar> disc;
+  disc.set_fill_correction(fill_correction);
+  disc.build(grid, particles, materials);
+  const Boundaries<1> boundaries{};
+  const DGOperator<ElasticBar> op(grid, disc, boundaries);
+  ForwardEuler<ElasticBar> euler;
+  euler.step(op, particles.state, particles.mass, 0.0, dt);
+}
+
+// Particles of `layout` in a uniform state.
+void place(const std::vector<Layout>& layout, Particles<1, 2>& particles) {
   const int n = static_cast<int>(layout.size());
   particles.resize(n);
   for (int p = 0; p < n; ++p) {
@@ -43,14 +54,13 @@ Eigen::Matrix2Xd step_uniform_state(const std::vector<Layout>& layout, Particles
     particles.id[p] = p;
     particles.state.col(p) << sigma0 / rho, v0;
   }
-  const std::vector<ElasticBar::Material> materials{{E, rho}};
-  Discretisation<ElasticBar> disc;
-  disc.set_fill_correction(fill_correction);
-  disc.build(grid, particles, materials);
-  const Boundaries<1> boundaries{};
-  const DGOperator<ElasticBar> op(grid, disc, boundaries);
-  ForwardEuler<ElasticBar> euler;
-  euler.step(op, particles.state, particles.mass, 0.0, dt);
+}
+
+// A uniform state on `layout`, one Euler step; returns the states after it.
+Eigen::Matrix2Xd step_uniform_state(const std::vector<Layout>& layout, Particles<1, 2>& particles,
+                                    bool fill_correction = false) {
+  place(layout, particles);
+  euler_step(particles, fill_correction);
   return particles.state;
 }
 
@@ -123,24 +133,12 @@ BOOST_AUTO_TEST_CASE(the_fill_correction_preserves_constant_states_in_any_cell) 
 BOOST_AUTO_TEST_CASE(the_fill_correction_conserves_momentum) {
   // A non-uniform state on the over-full layout: total momentum unchanged by a step (periodic).
   Particles<1, 2> particles;
-  const auto layout = one_per_cell_except_cell_2(0.25, 0.6, 1.0);
-  step_uniform_state(layout, particles, true);  // sets up positions and masses
-  Grid<1> grid;
-  grid.cell_size << h;
-  grid.cells = {6};
-  grid.periodic = {true};
+  place(one_per_cell_except_cell_2(0.25, 0.6, 1.0), particles);
   for (int p = 0; p < particles.size(); ++p)
     particles.state.col(p) << std::sin(1.0 + p) / rho, std::cos(2.0 * p);
   const double before = particles.mass.dot(particles.state.row(1).transpose());
   const Eigen::Matrix2Xd initial = particles.state;
-  const std::vector<ElasticBar::Material> materials{{E, rho}};
-  Discretisation<ElasticBar> disc;
-  disc.set_fill_correction(true);
-  disc.build(grid, particles, materials);
-  const Boundaries<1> boundaries{};
-  const DGOperator<ElasticBar> op(grid, disc, boundaries);
-  ForwardEuler<ElasticBar> euler;
-  euler.step(op, particles.state, particles.mass, 0.0, dt);
+  euler_step(particles, true);
   const double after = particles.mass.dot(particles.state.row(1).transpose());
   BOOST_TEST(std::abs(after - before) <= 1e-13 * particles.mass.sum());
   BOOST_TEST((particles.state - initial).norm() > 1e-3 * initial.norm());  // a real step

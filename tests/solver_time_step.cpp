@@ -299,13 +299,18 @@ BOOST_AUTO_TEST_CASE(a_cell_emptied_by_motion_keeps_dt_finite) {
 // A bar whose ends fall mid-cell: its end cells are half full (4 of 8 particles, each of an eighth
 // of a full cell's mass). The periodic analysis sees full cells; the small-cell rule scales their
 // C* by the fill. Checked against the spectral radius of the whole scene's operator.
-BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
+// 13 cells, the bar [0, 12 dx) shifted by half a cell, 8 particles per cell, RK2, "auto".
+json bar_with_half_full_ends() {
   const int cells = 13;
-  json doc = {{"dimension", 1},
-              {"grid", {{"origin", {-0.5 * dx}}, {"cell_size", {dx}}, {"cells", {cells}}}},
-              {"materials", steel()},
-              {"bodies", {body(0, (cells - 1) * dx, v0, {{"particles_per_cell", 8}})}},
-              {"time", {{"end", 1.0}, {"integrator", "rk2"}, {"courant", "auto"}}}};
+  return {{"dimension", 1},
+          {"grid", {{"origin", {-0.5 * dx}}, {"cell_size", {dx}}, {"cells", {cells}}}},
+          {"materials", steel()},
+          {"bodies", {body(0, (cells - 1) * dx, v0, {{"particles_per_cell", 8}})}},
+          {"time", {{"end", 1.0}, {"integrator", "rk2"}, {"courant", "auto"}}}};
+}
+
+BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
+  const json doc = bar_with_half_full_ends();
   Simulation sim(scene::parse_scene(doc));
   const double used = sim.stable_time_step() * c / dx;
   const double full_layout =
@@ -343,13 +348,8 @@ BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
 // With the fill correction the half-full end cells preserve the rigid translation: no stress
 // appears, the energy stays put.
 BOOST_AUTO_TEST_CASE(fill_correction_keeps_a_bar_with_half_full_ends_rigid) {
-  const int cells = 13;
-  json doc = {{"dimension", 1},
-              {"grid", {{"origin", {-0.5 * dx}}, {"cell_size", {dx}}, {"cells", {cells}}}},
-              {"materials", steel()},
-              {"bodies", {body(0, (cells - 1) * dx, v0, {{"particles_per_cell", 8}})}},
-              {"time", {{"end", 1.0}, {"integrator", "rk2"}, {"courant", "auto"}}},
-              {"fill_correction", true}};
+  json doc = bar_with_half_full_ends();
+  doc["fill_correction"] = true;
   Simulation sim(scene::parse_scene(doc));
   const double e0 = sim.energy();
   const Extremes r = run_recording(sim, 2000 * sim.stable_time_step());
