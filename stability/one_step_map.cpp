@@ -44,11 +44,15 @@ double max_abs(const std::vector<Eigen::MatrixXd>& blocks) {
 }
 
 // coefficients[d + kWindow][k] of the full (ncomp N)-square blocks.
+// `round_off` receives the round-off level of the samples: lib's nodal values divide by the nodal
+// masses, so a node holding a small share of its cell's mass amplifies it (RK2 carries O(1 / share)
+// stage values to the neighbours before interpolation brings them back to O(1)).
 template <class Physics>
 std::vector<std::vector<Eigen::MatrixXd>> polynomial_blocks(const CellLayout& layout,
-                                                            TimeScheme scheme, double round_off) {
+                                                            TimeScheme scheme, double& round_off) {
   const int degree = polynomial_degree(scheme);
   PeriodicCells<Physics> grid(layout, kCells);
+  round_off = 1e-15 / grid.smallest_node_share();
   // Nodes j / degree in [0, 1]: exact in binary, and a well-conditioned Vandermonde system.
   Eigen::MatrixXd vandermonde(degree + 1, degree + 1);
   std::vector<std::vector<Eigen::MatrixXd>> samples;
@@ -123,25 +127,9 @@ Eigen::MatrixXd StencilFamily::block(std::size_t offset_index, double courant) c
   return value;
 }
 
-// Round-off of the sampled entries: lib's nodal values divide by the nodal masses, so a node
-// holding a small share of its cell's mass amplifies it (RK2 carries the O(1 / share) stage values
-// to the neighbours before interpolation brings them back to O(1)). A node at or below lib's
-// massless share is folded and amplifies nothing.
-static double sampling_round_off(const CellLayout& layout) {
-  double left = 0.0, right = 0.0;
-  for (int k = 0; k < layout.size(); ++k) {
-    left += layout.mass_fraction(k) * (1.0 - layout.positions[k]);
-    right += layout.mass_fraction(k) * layout.positions[k];
-  }
-  double share = std::min(left, right);
-  if (share <= Discretisation<ElasticBar>::massless_share) share = std::max(left, right);
-  return 1e-15 / share;
-}
-
 OneStepMap build_one_step_map(const CellLayout& layout, TimeScheme scheme, Model model) {
   validate(layout);
   OneStepMap map{layout, scheme, model, polynomial_degree(scheme), {}};
-  map.round_off = sampling_round_off(layout);
   const int n = layout.size();
   if (model == Model::advection) {
     const auto coefficients = polynomial_blocks<Advection<1>>(layout, scheme, map.round_off);

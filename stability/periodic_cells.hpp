@@ -14,6 +14,7 @@
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/time_integration.hpp>
 
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -58,6 +59,17 @@ class PeriodicCells {
   PeriodicCells& operator=(const PeriodicCells&) = delete;
 
   int cells() const { return grid_.cells[0]; }
+  // Smallest share of a cell's mass that one of its nodes holds, nodes that lib folds as massless
+  // aside (every cell is the same: cell 0 speaks for all).
+  double smallest_node_share() const {
+    const double cell = disc_.cell_mass(0);
+    double share = 1.0;
+    for (int a = 0; a < Discretisation<Physics>::npc; ++a) {
+      const double s = disc_.node_mass(a) / cell;
+      if (s > Discretisation<Physics>::massless_share) share = std::min(share, s);
+    }
+    return share;
+  }
   int particles_per_cell() const { return n_; }
   int num_particles() const { return particles_.size(); }
   Field& state() { return particles_.state; }
