@@ -156,17 +156,13 @@ class Parser {
                   "time", "particles_move", "fill_correction", "exact", "output"});
     s.dimension = parse_dimension(require(doc, "", "dimension", "1"));
     if (const json* m = find(doc, "method"))
-      s.method = choice<Method>(*m, "method",
-                                {{"dgmpm", Method::dgmpm},
-                                 {"mpm-usl", Method::mpm_usl},
-                                 {"mpm-usf", Method::mpm_usf},
-                                 {"mpm-musl", Method::mpm_musl}});
+      s.method =
+          named(*m, "method", {Method::dgmpm, Method::mpm_usl, Method::mpm_usf, Method::mpm_musl});
     if (const json* u = find(doc, "update")) {
       if (s.method == Method::dgmpm)
         refuse("update", *u, "is not allowed with method \"dgmpm\"",
                "update only with mpm-usl, mpm-usf or mpm-musl");
-      s.update =
-          choice<MpmUpdate>(*u, "update", {{"flip", MpmUpdate::flip}, {"pic", MpmUpdate::pic}});
+      s.update = named(*u, "update", {MpmUpdate::flip, MpmUpdate::pic});
     }
     s.grid = parse_grid(require(doc, "", "grid", "an object with origin, cell_size, cells"),
                         s.dimension);
@@ -280,8 +276,22 @@ class Parser {
     return out;
   }
 
+  // One of `values`, spelled as to_string spells it (the names printed are the names parsed).
+  template <class E>
+  E named(const json& v, const std::string& path, std::initializer_list<E> values) const {
+    std::vector<std::pair<const char*, E>> names;
+    for (E e : values) names.emplace_back(to_string(e), e);
+    return choice_among(v, path, names);
+  }
+
   template <class E>
   E choice(const json& v, const std::string& path, Names<E> names) const {
+    return choice_among(v, path, names);
+  }
+
+  // The value paired with the name `v` holds; `names`: pairs of name and value.
+  template <class NameList>
+  auto choice_among(const json& v, const std::string& path, const NameList& names) const {
     std::vector<std::string> listed;
     for (const auto& [name, value] : names) listed.push_back(name);
     if (!v.is_string()) wrong_type(path, v, "one of " + join(listed));
@@ -349,8 +359,7 @@ class Parser {
     TimeSpec time;
     time.end = positive(require(t, "time", "end", "a number > 0"), "time.end");
     if (const json* i = find(t, "integrator"))
-      time.integrator = choice<Integrator>(
-          *i, "time.integrator", {{"euler", Integrator::euler}, {"rk2", Integrator::rk2}});
+      time.integrator = named(*i, "time.integrator", {Integrator::euler, Integrator::rk2});
     if (const json* c = find(t, "courant")) {
       const std::string allowed = "a number > 0 or \"auto\"";
       if (c->is_string()) {
@@ -365,8 +374,7 @@ class Parser {
     if (const json* c = find(t, "criterion")) {
       if (!time.courant_auto)
         refuse("time.criterion", *c, "is not allowed without \"courant\": \"auto\"", only_auto);
-      time.criterion = choice<Criterion>(
-          *c, "time.criterion", {{"l2", Criterion::l2}, {"monotone", Criterion::monotone}});
+      time.criterion = named(*c, "time.criterion", {Criterion::l2, Criterion::monotone});
     }
     if (const json* s = find(t, "safety")) {
       if (!time.courant_auto)
@@ -549,12 +557,9 @@ class Parser {
     check_object(v, path, {"type", "value"});
     BoundarySpec bc;
     const std::string type_path = key_path(path, "type");
-    bc.kind = choice<BoundaryKind>(
+    bc.kind = named(
         require(v, path, "type", "one of free, fixed, traction, velocity"), type_path,
-        {{"free", BoundaryKind::free},
-         {"fixed", BoundaryKind::fixed},
-         {"traction", BoundaryKind::traction},
-         {"velocity", BoundaryKind::velocity}});
+        {BoundaryKind::free, BoundaryKind::fixed, BoundaryKind::traction, BoundaryKind::velocity});
     const std::string value_path = key_path(path, "value");
     const std::string allowed = "a number or a table [[t0, v0], [t1, v1], ...]";
     const json* value = find(v, "value");

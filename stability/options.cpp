@@ -1,6 +1,8 @@
 #include "stability/options.hpp"
 
+#include <initializer_list>
 #include <stdexcept>
+#include <string>
 
 namespace dgmpm::stability {
 
@@ -14,20 +16,29 @@ const char* to_string(Model m) {
   return m == Model::advection ? "advection" : "elastic";
 }
 
+namespace {
+
+// The value of `all` whose to_string is `s`: one spelling per value, the printed one.
+template <class E>
+E parse_named(const std::string& s, std::initializer_list<E> all, const char* what) {
+  std::string listed;
+  for (E e : all) {
+    if (s == to_string(e)) return e;
+    listed += (listed.empty() ? "" : " or ") + std::string(to_string(e));
+  }
+  throw std::invalid_argument("unknown " + std::string(what) + " '" + s + "' (" + listed + ")");
+}
+
+}  // namespace
+
 TimeScheme parse_time_scheme(const std::string& s) {
-  if (s == "euler") return TimeScheme::euler;
-  if (s == "rk2") return TimeScheme::rk2;
-  throw std::invalid_argument("unknown time scheme '" + s + "' (euler or rk2)");
+  return parse_named(s, {TimeScheme::euler, TimeScheme::rk2}, "time scheme");
 }
 Criterion parse_criterion(const std::string& s) {
-  if (s == "l2") return Criterion::l2;
-  if (s == "monotone") return Criterion::monotone;
-  throw std::invalid_argument("unknown criterion '" + s + "' (l2 or monotone)");
+  return parse_named(s, {Criterion::l2, Criterion::monotone}, "criterion");
 }
 Model parse_model(const std::string& s) {
-  if (s == "advection") return Model::advection;
-  if (s == "elastic") return Model::elastic;
-  throw std::invalid_argument("unknown model '" + s + "' (elastic or advection)");
+  return parse_named(s, {Model::elastic, Model::advection}, "model");
 }
 
 int polynomial_degree(TimeScheme s) {
