@@ -151,10 +151,10 @@ void Simulation::warn_if_above_admissible() {
 // the scene asks for the fill correction, which removes the cause).
 void Simulation::warn_if_overfull_cell(long step, double t) {
   const auto& disc = stepper_->disc;
-  const double volume = problem_.grid.cell_size.prod();
+  const double volume = problem_.grid.cell_volume();
   for (int c = 0; c < disc.num_cells(); ++c) {
     if (!disc.occupied(c)) continue;
-    const double fill = disc.cell_mass(c) / (disc.cell_material(c).density * volume);
+    const double fill = TimeStepControl::fill(disc, c, volume);
     if (fill <= 1 + 1e-6) continue;
     std::ostringstream s;
     s << format_step(step, t) << ": cell " << c << " holds " << std::setprecision(6) << fill
