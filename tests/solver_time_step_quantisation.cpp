@@ -211,6 +211,16 @@ BOOST_AUTO_TEST_CASE(rk2_monotone_error_is_below_22_delta_over_the_smallest_gap)
   check_quantisation_error(TimeScheme::rk2, Criterion::monotone, 12000, 22.0, 5e-3);
 }
 
+// The measurement quoted at the top of the file (15 s; not run by default):
+//   build/bin/test_solver_time_step_quantisation --log_level=message
+//       --run_test=measure_on_the_large_sample
+BOOST_AUTO_TEST_CASE(measure_on_the_large_sample, *boost::unit_test::disabled()) {
+  check_quantisation_error(TimeScheme::euler, Criterion::l2, 6000, 2.0, 2e-3);
+  check_quantisation_error(TimeScheme::euler, Criterion::monotone, 36000, 3.0, 4e-3);
+  check_quantisation_error(TimeScheme::rk2, Criterion::l2, 6000, 4.0, 2e-3);
+  check_quantisation_error(TimeScheme::rk2, Criterion::monotone, 36000, 22.0, 5e-3);
+}
+
 // Documents the price of the resolution, not a requirement: a particle less than q/2 from a
 // node is put on it. Below node 1 that makes it the next cell's xi = 0, so {0, 1 - d} is analysed
 // as one particle (C* = 1) while C*(exact) -> 0 (like sqrt(d) for euler/l2, like d for monotone),
