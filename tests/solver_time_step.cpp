@@ -141,6 +141,11 @@ RangeHistory monotone_range_history(double safety) {
           h.nearest_overfull = k;
         }
   }
+  BOOST_TEST_MESSAGE("safety " << safety << ": " << h.steps
+                               << " steps, first over-full cell at step " << h.first_overfull
+                               << ", first stress outside at step " << h.first_outside
+                               << ", range [" << h.min_stress / (Z * v0) << ", "
+                               << h.max_stress / (Z * v0) << "] Z v0");
   BOOST_TEST(sim.warnings().size() == 1u);
   if (!sim.warnings().empty())
     BOOST_TEST(sim.warnings()[0].find("step " + std::to_string(h.first_overfull) + ",") == 0u);
