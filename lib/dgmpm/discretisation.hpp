@@ -46,7 +46,6 @@ class Discretisation {
   // K F^s then integrates over the cell's volume, constant states are preserved, and momentum is
   // still conserved (the columns of K^T still sum to zero). Full cells are unchanged.
   void set_fill_correction(bool on) { fill_correction_ = on; }
-  bool fill_correction() const { return fill_correction_; }
 
   // Rebuilds from the particles' current positions. Storage is reused: no allocation once the
   // sizes are reached. Throws ParticleOutsideGrid.
