@@ -65,7 +65,7 @@ double best_calls_per_second(Call&& call, double seconds) {
 
 // With "courant": "auto" the step length changes as particles move: each step takes the one the
 // previous step computed.
-double particle_steps_per_second(Simulation& sim, double seconds) {
+double particle_steps_per_second(BarSimulation& sim, double seconds) {
   const bool fresh_dt = sim.scene().time.courant_auto;
   const double dt = sim.stable_time_step();
   const double steps_per_second =
@@ -95,14 +95,13 @@ void print_time_step_cost(std::ostream& out, const std::vector<AutoRun>& runs, d
     BarProblem problem = make_bar_problem(scene);
     problem.particles = run.final_particles;
     Discretisation<ElasticBar> disc;
-    const double h = problem.grid.cell_size.minCoeff();
     const double n = static_cast<double>(problem.particles.size());
     const double rebuilds = best_calls_per_second(
         [&] { disc.build(problem.grid, problem.particles, problem.materials); }, seconds);
-    TimeStepControl control(scene.time, true);
+    TimeStepControl<ElasticBar> control(scene);
     double dt = 0;
-    const double dts =
-        best_calls_per_second([&] { dt = control.time_step(disc, problem.particles, h); }, seconds);
+    const double dts = best_calls_per_second(
+        [&] { dt = control.time_step(problem.grid, disc, problem.particles); }, seconds);
     const auto ns = [n](double per_second) { return 1e9 / (per_second * n); };
     out << std::setw(5) << run.ppc << std::setw(12) << run.particles << std::fixed
         << std::setprecision(2) << std::setw(12) << ns(rebuilds) << std::setw(18) << ns(dts)
@@ -137,7 +136,7 @@ void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_co
       << std::setw(22) << "particle-steps/s" << '\n';
   for (const Case& c : cases)
     for (int n : particle_counts) {
-      Simulation sim(bar_scene(n, c.method, c.integrator, c.move, c.auto_courant, c.ppc));
+      BarSimulation sim(bar_scene(n, c.method, c.integrator, c.move, c.auto_courant, c.ppc));
       const double rate = particle_steps_per_second(sim, seconds);
       out << std::left << std::setw(26) << c.label << std::right << std::setw(12) << n
           << std::setw(22) << std::scientific << std::setprecision(3) << rate << std::defaultfloat

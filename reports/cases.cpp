@@ -96,7 +96,7 @@ RunRow run_scene(const nlohmann::json& document, std::optional<double> energy_gr
   RunRow row;
   row.l2_error = row.max_error = row.energy_drift = nan;
   row.wall_seconds = std::numeric_limits<double>::infinity();
-  std::unique_ptr<Simulation> sim;  // outside the try: a failed run still tells its step
+  std::unique_ptr<BarSimulation> sim;  // outside the try: a failed run still tells its step
   try {
     const scene::Scene scene = scene::parse_scene(document, "report");
     row.cells = scene.grid.cells[0];
@@ -105,7 +105,7 @@ RunRow run_scene(const nlohmann::json& document, std::optional<double> energy_gr
     for (int repeat = 0; repeat < 5 && (repeat == 0 || spent < min_seconds); ++repeat) {
       // Set-up (operators, automatic time step analysis) is part of the cost of a run.
       const auto start = clock::now();
-      sim = std::make_unique<Simulation>(scene);
+      sim = std::make_unique<BarSimulation>(scene);
       row.dt_min = row.dt_max = sim->stable_time_step();
       const RunSummary s = sim->run();
       const double wall = std::chrono::duration<double>(clock::now() - start).count();

@@ -2,8 +2,9 @@
 // Classical MPM baseline (Sulsky, Zhou, Schreyer 1995; method.md 7) on the same grid, particles
 // and boundaries as DGMPM: shared (continuous) nodes, multilinear shape functions, lumped mass,
 // USL / USF / MUSL orderings with a FLIP or PIC particle velocity update.
-// Node numbering, transfers and boundary conditions are dimension-generic; the constitutive part
-// (particle stress and velocity layout, internal force, stress update) is the 1D elastic bar.
+// Everything is dimension-generic; the physics supplies the constitutive part: the stress tensor
+// of a particle state and the stress rate of a velocity gradient (the velocity is the state's
+// last Dim components).
 
 #include "solver/scene.hpp"
 
@@ -12,6 +13,7 @@
 #include <dgmpm/grid.hpp>
 #include <dgmpm/particles.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
+#include <dgmpm/physics/plane_strain.hpp>
 #include <dgmpm/shape_functions.hpp>
 
 #include <Eigen/Core>
@@ -38,12 +40,15 @@ inline const char* to_string(MpmVariant v) {
   return "?";
 }
 
-template <int Dim>
+template <class Physics>
 class Mpm {
  public:
+  static constexpr int Dim = Physics::dim;
   static constexpr int npc = 1 << Dim;  // nodes of a cell
-  static constexpr int ncomp = ElasticBar::n_comp;
-  using Material = ElasticBar::Material;
+  static constexpr int ncomp = Physics::n_comp;
+  static constexpr int velocity_row = ncomp - Dim;
+  using Material = typename Physics::Material;
+  using Tensor = Eigen::Matrix<double, Dim, Dim>;
   using Vec = Eigen::Matrix<double, Dim, 1>;
   using ParticleSet = Particles<Dim, ncomp>;
   using NodalVectors = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
@@ -112,34 +117,32 @@ class Mpm {
   }
 
  private:
-  // --- 1D elastic bar: particle state (sigma / rho, v), sigma_t = E v_x -------------------------
+  // --- constitutive part, from the physics ------------------------------------------------------
   static Vec particle_velocity(const ParticleSet& ps, int p) {
-    static_assert(Dim == 1, "the MPM constitutive part is the 1D bar; 2D needs its own state");
-    return Vec(ps.state(ElasticBar::velocity, p));
+    return ps.state.col(p).template tail<Dim>();
   }
   static void set_particle_velocity(ParticleSet& ps, int p, const Vec& v) {
-    ps.state(ElasticBar::velocity, p) = v[0];
+    ps.state.col(p).template tail<Dim>() = v;
   }
-  // V_p sigma_p, the weight of grad S_i in the internal force.
-  double volume_stress(const ParticleSet& ps, int p) const {
-    const Material& m = materials_[ps.material[p]];
-    return ps.volume[p] * m.density * ps.state(ElasticBar::stress, p);
-  }
-  // Specific form of sigma += dt E dv/dx: s += dt c^2 dv/dx.
+  // sigma += dt C : sym(grad v), with grad v from the nodal velocities v.
   void update_stress(ParticleSet& ps, const NodalVectors& v, double dt) const {
     const int np = ps.size();
     for (int p = 0; p < np; ++p) {
-      double rate = 0.0;
-      for (int a = 0; a < npc; ++a) rate += v(0, node_(a, p)) * grad_(a * Dim, p);
-      const Material& m = materials_[ps.material[p]];
-      ps.state(ElasticBar::stress, p) += dt * (m.young / m.density) * rate;
+      Tensor grad = Tensor::Zero();  // (i, j): dv_i / dx_j
+      for (int a = 0; a < npc; ++a)
+        grad.noalias() += v.col(node_(a, p)) * grad_.template block<Dim, 1>(a * Dim, p).transpose();
+      auto q = ps.state.col(p);
+      Physics::add_stress_rate(q, grad, materials_[ps.material[p]], dt);
     }
   }
+  // f_i -= V_p sigma_p grad S_i(x_p).
   void add_internal_force(const ParticleSet& ps) {
     const int np = ps.size();
     for (int p = 0; p < np; ++p) {
-      const double vs = volume_stress(ps, p);
-      for (int a = 0; a < npc; ++a) force_(0, node_(a, p)) -= vs * grad_(a * Dim, p);
+      const Tensor vs =
+          ps.volume[p] * Physics::stress_tensor(ps.state.col(p), materials_[ps.material[p]]);
+      for (int a = 0; a < npc; ++a)
+        force_.col(node_(a, p)).noalias() -= vs * grad_.template block<Dim, 1>(a * Dim, p);
     }
   }
 
@@ -206,8 +209,9 @@ class Mpm {
       if (grid_.locate(ps.position.col(p), xi) < 0) throw_outside_grid(ps, p);
   }
 
-  // Calls f(node, weight) for the nodes of the grid face normal to `axis` on `side`; weight is
-  // the integral of the node's shape function over the face (1 in 1D).
+  // Calls f(node, x, s) for the nodes of the grid face normal to `axis` on `side`, x being the
+  // node's position and s the segment of its shape function's support on the face along the
+  // tangential axes: [x - h, x + h] clipped to the face (the face is a point in 1D).
   template <class F>
   void for_each_face_node(int axis, int side, F&& f) const {
     int count = 1;
@@ -215,45 +219,81 @@ class Mpm {
       if (l != axis) count *= nodes_[l];
     for (int n = 0; n < count; ++n) {
       int rest = n, i = (side ? nodes_[axis] - 1 : 0) * stride_[axis];
-      double w = 1.0;
+      Vec x, lo, hi;
+      x[axis] = lo[axis] = hi[axis] = side ? grid_.upper(axis) : grid_.origin[axis];
       for (int l = 0; l < Dim; ++l) {
         if (l == axis) continue;
         const int kl = rest % nodes_[l];
         rest /= nodes_[l];
         i += kl * stride_[l];
-        const bool edge = !grid_.periodic[l] && (kl == 0 || kl == nodes_[l] - 1);
-        w *= edge ? 0.5 * grid_.cell_size[l] : grid_.cell_size[l];
+        x[l] = grid_.origin[l] + kl * grid_.cell_size[l];
+        lo[l] = grid_.periodic[l] ? x[l] - grid_.cell_size[l]
+                                  : std::max(grid_.origin[l], x[l] - grid_.cell_size[l]);
+        hi[l] = grid_.periodic[l] ? x[l] + grid_.cell_size[l]
+                                  : std::min(grid_.upper(l), x[l] + grid_.cell_size[l]);
       }
-      f(i, w);
+      f(i, x, lo, hi);
     }
   }
 
-  // Fixed and velocity faces: the nodal velocity is the prescribed one. Imposed on v^n and on
-  // v^{n+1}, so the nodal acceleration there is that of the prescription (zero when fixed).
+  // Integral over [lo, hi] (tangential axes) of the node-at-x shape function restricted to the
+  // segment s (1 in 1D).
+  double face_weight(const Vec& x, const Vec& lo, const Vec& hi, const BoundarySegment<Dim>& s,
+                     int axis) const {
+    double w = 1.0;
+    for (int l = 0; l < Dim; ++l) {
+      if (l == axis) continue;
+      const double a = std::max(lo[l], s.lo[l]), b = std::min(hi[l], s.hi[l]);
+      if (!(a < b)) return 0.0;
+      // Integral of the hat 1 - |y - x| / h over [a, b], split at its peak.
+      const double h = grid_.cell_size[l];
+      const auto primitive = [&](double y) {  // of the hat, from x
+        const double d = y - x[l];
+        return d - std::copysign(0.5 * d * d / h, d);
+      };
+      w *= primitive(b) - primitive(a);
+    }
+    return w;
+  }
+
+  // Fixed and velocity faces: the nodal velocity is the prescribed one; roller faces: its normal
+  // component is zero. Imposed on v^n and on v^{n+1}, so the nodal acceleration there is that of
+  // the prescription (zero when fixed).
   void apply_velocity_bc(NodalVectors& v, double t) const {
     for (int l = 0; l < Dim; ++l) {
       if (grid_.periodic[l]) continue;
       for (int side = 0; side < 2; ++side) {
-        const auto& bc = bc_[l][side];
-        if (bc.kind != BoundaryKind::fixed && bc.kind != BoundaryKind::velocity) continue;
-        const Vec value = bc.kind == BoundaryKind::fixed ? Vec::Zero() : Vec(bc.value(t));
-        for_each_face_node(l, side, [&](int i, double) { v.col(i) = value; });
+        const auto& bs = bc_[l][side];
+        if (bs.segments.empty()) continue;
+        for_each_face_node(l, side, [&](int i, const Vec& x, const Vec&, const Vec&) {
+          const auto* bc = bs.at(x, l);
+          if (!bc) return;
+          if (bc->kind == BoundaryKind::fixed) v.col(i).setZero();
+          if (bc->kind == BoundaryKind::velocity) v.col(i) = bc->value(t);
+          if (bc->kind == BoundaryKind::roller) v(l, i) = 0.0;
+        });
       }
     }
   }
 
-  // A prescribed stress sigma_d . e_axis on a face (the 1D sigma_d) acts on the body as
-  // sigma_d n: + at the upper face, - at the lower one. Massless nodes carry no material.
+  // A prescribed (sigma_nn, sigma_nt) on a face acts on the body as the traction sigma n: + at
+  // the upper face, - at the lower one; each node takes the integral of its shape function over
+  // the loaded part of the face. Massless nodes carry no material.
   void add_traction(double t) {
     for (int l = 0; l < Dim; ++l) {
       if (grid_.periodic[l]) continue;
       for (int side = 0; side < 2; ++side) {
-        const auto& bc = bc_[l][side];
-        if (bc.kind != BoundaryKind::traction) continue;
-        const Vec value = (side ? 1.0 : -1.0) * Vec(bc.value(t));
-        for_each_face_node(l, side, [&](int i, double w) {
-          if (mass_[i] > 0.0) force_.col(i) += w * value;
-        });
+        for (const auto& s : bc_[l][side].segments) {
+          if (s.condition.kind != BoundaryKind::traction) continue;
+          const Vec value = s.condition.value(t);
+          Vec traction = Vec::Zero();
+          traction[l] = value[0];
+          if constexpr (Dim > 1) traction[1 - l] = value[1];
+          if (!side) traction = -traction;
+          for_each_face_node(l, side, [&](int i, const Vec& x, const Vec& lo, const Vec& hi) {
+            if (mass_[i] > 0.0) force_.col(i) += face_weight(x, lo, hi, s, l) * traction;
+          });
+        }
       }
     }
   }

@@ -1,41 +1,54 @@
 #pragma once
 // Problem description: what a scene means for the discretisation: grid, boundary conditions,
-// materials, generated particles and, when asked for, the exact solution.
+// materials, generated particles and, when asked for, the exact solution. One template for every
+// physics; the physics is chosen from the scene's dimension in one place (simulation.hpp).
 
 #include "solver/scene.hpp"
 
 #include <dgmpm/boundary.hpp>
-#include <dgmpm/exact/elastic_bar.hpp>
 #include <dgmpm/grid.hpp>
 #include <dgmpm/particles.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
+#include <dgmpm/physics/plane_strain.hpp>
 
-#include <optional>
+#include <functional>
 #include <vector>
 
 namespace dgmpm {
 
-struct BarProblem {
-  using Physics = ElasticBar;
-  static constexpr int dim = 1;
-  Grid<1> grid;
-  Boundaries<1> boundaries;
-  std::vector<ElasticBar::Material> materials;
-  std::vector<double> poisson;  // per material, unused in 1D but kept for reports
-  Particles<1, ElasticBar::n_comp> particles;
-  std::optional<exact::ElasticBarSolution> exact;
+template <class Physics>
+struct Problem {
+  static constexpr int dim = Physics::dim;
+  using State = typename Physics::State;
+  using Vec = Eigen::Matrix<double, dim, 1>;
+  Grid<dim> grid;
+  Boundaries<dim> boundaries;
+  std::vector<typename Physics::Material> materials;
+  Particles<dim, Physics::n_comp> particles;
+  // Exact solution, physical state (sigma, v) at material point x0 and time t; empty if none.
+  std::function<State(const Vec& x0, double t)> exact;
+  // The impedance that relates the exact solution's stress and velocity scales.
+  double exact_impedance = 1.0;
 
   // Largest wave speed among the materials the particles carry.
-  double max_wave_speed() const;
+  double max_wave_speed() const {
+    double c = 0;
+    for (int p = 0; p < particles.size(); ++p)
+      c = std::max(c, Physics::max_wave_speed(materials[particles.material[p]]));
+    return c;
+  }
 };
 
-// Throws scene::SceneError when the scene's pieces do not fit together (e.g. an exact solution
-// asked for a bar of several materials).
-BarProblem make_bar_problem(const scene::Scene& scene);
+using BarProblem = Problem<ElasticBar>;
+using PlaneStrainProblem = Problem<PlaneStrain>;
 
-// Particles of one body, at the scene's seeds (scene::body_seeds: the body's cell layout kept
-// where it falls in the box). Each carries its share of rho * cell volume by masses_in_cell.
-void add_body_particles(const scene::Scene& scene, std::size_t body_index, const Grid<1>& grid,
-                        Particles<1, ElasticBar::n_comp>& particles);
+// Throws scene::SceneError when the scene's pieces do not fit together (e.g. an exact solution
+// asked for a bar of several materials) or its dimension is not the physics'.
+template <class Physics>
+Problem<Physics> make_problem(const scene::Scene& scene);
+
+inline BarProblem make_bar_problem(const scene::Scene& scene) {
+  return make_problem<ElasticBar>(scene);
+}
 
 }  // namespace dgmpm

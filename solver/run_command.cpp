@@ -16,10 +16,15 @@ struct RunArguments {
   bool json = false;
 };
 
-void print_human(const scene::Scene& scene, const Simulation& sim, const RunSummary& s) {
-  std::printf("%s: %s, %s, %d particles, %d cells\n", scene.source.c_str(),
-              scene::to_string(scene.method), scene::to_string(scene.time.integrator),
-              sim.particles().size(), sim.problem().grid.num_cells());
+void print_human(const scene::Scene& scene, const SimulationBase& sim, const RunSummary& s) {
+  std::printf("%s: %dD, %s, %s%s%s, %d particles, %d cells\n", scene.source.c_str(),
+              scene.dimension, scene::to_string(scene.method),
+              scene::to_string(scene.time.integrator),
+              scene.dimension > 1 && scene.method == scene::Method::dgmpm ? ", " : "",
+              scene.dimension > 1 && scene.method == scene::Method::dgmpm
+                  ? to_string(scene.flux)
+                  : "",
+              sim.num_particles(), sim.num_cells());
   std::printf("steps %ld, final time %.9g s, dt %.6g to %.6g s, wall %.3f s\n", s.steps,
               s.final_time, s.dt_min, s.dt_max, s.wall_seconds);
   if (scene.time.courant_auto)
@@ -29,6 +34,9 @@ void print_human(const scene::Scene& scene, const Simulation& sim, const RunSumm
       s.energy_initial > 0 ? (s.energy_final - s.energy_initial) / s.energy_initial : 0.0;
   std::printf("energy: initial %.12g J, final %.12g J, relative change %.3e\n", s.energy_initial,
               s.energy_final, drift);
+  if (s.boundary_work != 0)
+    std::printf("work of the boundary loads %.12g J; energy - work %.6g J\n", s.boundary_work,
+                s.energy_final - s.energy_initial - s.boundary_work);
   if (s.stress_errors) {
     std::printf("relative error against the exact solution at t = %.9g s:\n", s.final_time);
     std::printf("  %-9s %12s %12s %12s\n", "field", "L1", "L2", "max");
@@ -44,7 +52,8 @@ void print_human(const scene::Scene& scene, const Simulation& sim, const RunSumm
 int run(const RunArguments& args) {
   try {
     const scene::Scene scene = scene::load_scene(args.scene);
-    Simulation sim(scene);
+    const auto owned = make_simulation(scene);
+    SimulationBase& sim = *owned;
     RunOptions options;
     if (!args.out.empty()) options.output_directory = args.out;
     options.progress = true;
@@ -55,8 +64,11 @@ int run(const RunArguments& args) {
       j["scene"] = scene.source;
       j["method"] = scene::to_string(scene.method);
       j["integrator"] = scene::to_string(scene.time.integrator);
-      j["particles"] = sim.particles().size();
-      j["cells"] = sim.problem().grid.num_cells();
+      j["dimension"] = scene.dimension;
+      if (scene.dimension > 1 && scene.method == scene::Method::dgmpm)
+        j["flux"] = to_string(scene.flux);
+      j["particles"] = sim.num_particles();
+      j["cells"] = sim.num_cells();
       std::cout << j.dump(2) << std::endl;
     } else {
       print_human(scene, sim, summary);

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -117,28 +118,63 @@ std::size_t stress_size(int dimension) {
   return static_cast<std::size_t>(dimension * (dimension + 1) / 2);
 }
 
-struct AxisSeed {
-  int cell, local;
-  double x;
-};
-
-// The points a body claims along one axis: origin + (k + xi) h in [min, max).
-std::vector<AxisSeed> axis_seeds(const GridSpec& grid, const BodySpec& body, int axis) {
+// Range of cells along `axis` that can hold a point of [lo, hi) (one cell of margin against
+// rounding), clamped to the grid.
+std::pair<int, int> cell_range(const GridSpec& grid, double lo, double hi, int axis) {
   const auto a = static_cast<std::size_t>(axis);
   const double origin = grid.origin[a], h = grid.cell_size[a];
-  const double lo = body.box_min[a], hi = body.box_max[a];
-  const int cells = grid.cells[a];
-  // Only the cells that can reach the box (one cell of margin against rounding).
-  const double first = std::clamp(std::floor((lo - origin) / h) - 1, 0.0, cells - 1.0);
-  const double last = std::clamp(std::ceil((hi - origin) / h) + 1, 0.0, cells - 1.0);
-  std::vector<AxisSeed> seeds;
-  for (int k = static_cast<int>(first); k <= static_cast<int>(last); ++k) {
-    for (std::size_t j = 0; j < body.positions_in_cell.size(); ++j) {
-      const double x = origin + (static_cast<double>(k) + body.positions_in_cell[j]) * h;
-      if (lo <= x && x < hi) seeds.push_back({k, static_cast<int>(j), x});
-    }
+  const double last_cell = grid.cells[a] - 1.0;
+  const double first = std::clamp(std::floor((lo - origin) / h) - 1, 0.0, last_cell);
+  const double last = std::clamp(std::ceil((hi - origin) / h) + 1, 0.0, last_cell);
+  return {static_cast<int>(first), static_cast<int>(last)};
+}
+
+// Calls f(seed) for the points of `body`'s layout in the cells whose ranges along each axis are
+// `ranges`, claimed by the box [box_min, box_max); stops early when f returns false.
+template <class F>
+void for_each_seed(const Scene& scene, const BodySpec& body,
+                   const std::array<std::pair<int, int>, 3>& ranges, F&& f) {
+  const int dim = scene.dimension;
+  std::array<int, 3> k{};
+  for (int a = 0; a < dim; ++a) {
+    k[static_cast<std::size_t>(a)] = ranges[static_cast<std::size_t>(a)].first;
+    if (ranges[static_cast<std::size_t>(a)].first > ranges[static_cast<std::size_t>(a)].second)
+      return;
   }
-  return seeds;
+  while (true) {
+    for (std::size_t j = 0; j < body.layout.size(); ++j) {
+      Seed seed;
+      bool inside = true;
+      for (std::size_t a = 0; a < static_cast<std::size_t>(dim); ++a) {
+        const double x =
+            scene.grid.origin[a] +
+            (static_cast<double>(k[a]) + body.layout[j][a]) * scene.grid.cell_size[a];
+        seed.cell[a] = k[a];
+        seed.x[a] = x;
+        if (!(body.box_min[a] <= x && x < body.box_max[a])) inside = false;
+      }
+      seed.local = static_cast<int>(j);
+      if (inside && !f(seed)) return;
+    }
+    int a = 0;
+    for (; a < dim; ++a) {
+      const auto ax = static_cast<std::size_t>(a);
+      if (++k[ax] <= ranges[ax].second) break;
+      k[ax] = ranges[ax].first;
+    }
+    if (a == dim) return;
+  }
+}
+
+// Cell ranges of a box (or of the intersection of two).
+std::array<std::pair<int, int>, 3> box_cells(const Scene& scene, const std::vector<double>& lo,
+                                             const std::vector<double>& hi) {
+  std::array<std::pair<int, int>, 3> ranges{};
+  for (int a = 0; a < scene.dimension; ++a) {
+    const auto ax = static_cast<std::size_t>(a);
+    ranges[ax] = cell_range(scene.grid, lo[ax], hi[ax], a);
+  }
+  return ranges;
 }
 
 template <class E>
@@ -153,7 +189,7 @@ class Parser {
     s.source = source_;
     check_object(doc, "",
                  {"dimension", "method", "update", "grid", "materials", "bodies", "boundaries",
-                  "time", "particles_move", "fill_correction", "exact", "output"});
+                  "time", "particles_move", "fill_correction", "flux", "exact", "output"});
     s.dimension = parse_dimension(require(doc, "", "dimension", "1"));
     if (const json* m = find(doc, "method"))
       s.method =
@@ -179,11 +215,19 @@ class Parser {
       if (s.fill_correction && s.method != Method::dgmpm)
         refuse("fill_correction", *f, "is a DGMPM option", "false with MPM methods");
     }
+    if (const json* f = find(doc, "flux")) {
+      if (s.dimension == 1 || s.method != Method::dgmpm)
+        refuse("flux", *f, "is not allowed with " + std::to_string(s.dimension) + "D method \"" +
+                               to_string(s.method) + "\"",
+               "flux only with 2D method \"dgmpm\" (1D has one flux)");
+      s.flux = named(*f, "flux", {FluxScheme::dcu, FluxScheme::ctu});
+    }
     if (const json* e = find(doc, "exact")) {
       choice<int>(*e, "exact", {{"bar", 0}});
       s.exact = "bar";
     }
     s.output.times = {s.time.end};
+    s.output.vtu = s.dimension > 1;
     if (const json* o = find(doc, "output")) parse_output(*o, s);
     return s;
   }
@@ -301,10 +345,9 @@ class Parser {
   }
 
   int parse_dimension(const json& v) const {
-    if (v.is_number() && (v.get<double>() == 2 || v.get<double>() == 3))
-      refuse("dimension", v,
-             "is not allowed: " + std::to_string(v.get<int>()) + "D is not implemented yet", "1");
-    return integer(v, "dimension", 1, 1, "1 (2D and 3D are not implemented yet)");
+    if (v.is_number() && v.get<double>() == 3)
+      refuse("dimension", v, "is not allowed: 3D is not implemented yet", "1 or 2");
+    return integer(v, "dimension", 1, 2, "1 or 2");
   }
 
   GridSpec parse_grid(const json& g, int dim) const {
@@ -321,7 +364,20 @@ class Parser {
     numbers(c, "grid.cells", n, per_axis);
     for (std::size_t a = 0; a < n; ++a)
       grid.cells.push_back(integer(c[a], index_path("grid.cells", a), 1, INT_MAX));
-    if (const json* p = find(g, "periodic")) grid.periodic = boolean(*p, "grid.periodic");
+    if (const json* p = find(g, "periodic")) {
+      const std::string allowed = "true or false, or an array of " + std::to_string(dim) +
+                                  " booleans (one per axis)";
+      if (p->is_boolean()) {
+        for (std::size_t a = 0; a < n; ++a) grid.periodic[a] = p->get<bool>();
+      } else if (p->is_array()) {
+        if (p->size() != n) refuse("grid.periodic", *p, "has " + std::to_string(p->size()) +
+                                   " entries", allowed);
+        for (std::size_t a = 0; a < n; ++a)
+          grid.periodic[a] = boolean((*p)[a], index_path("grid.periodic", a));
+      } else {
+        wrong_type("grid.periodic", *p, allowed);
+      }
+    }
     return grid;
   }
 
@@ -453,22 +509,58 @@ class Parser {
     if (!ppc && !pic)
       fail(ppc_path, "missing required key (or positions_in_cell); allowed: " + one_of);
     if (ppc) {
-      const int count = integer(*ppc, ppc_path, 1, max_particles_per_cell);
-      for (int k = 0; k < count; ++k) body.positions_in_cell.push_back((k + 0.5) / count);
+      std::array<int, 3> count{1, 1, 1};
+      const std::string allowed = "an integer from 1 to " +
+                                  std::to_string(max_particles_per_cell) +
+                                  " (per axis), or an array of " + std::to_string(n) +
+                                  " such integers, at most " +
+                                  std::to_string(max_particles_per_cell) + " particles in all";
+      int total = 1;
+      for (std::size_t a = 0; a < n; ++a) {
+        const json& c = ppc->is_array() && ppc->size() == n ? (*ppc)[a] : *ppc;
+        if (ppc->is_array() && ppc->size() != n)
+          refuse(ppc_path, *ppc, "has " + std::to_string(ppc->size()) + " entries", allowed);
+        count[a] = integer(c, ppc->is_array() ? index_path(ppc_path, a) : ppc_path, 1,
+                           max_particles_per_cell, allowed);
+        total *= count[a];
+      }
+      if (total > max_particles_per_cell)
+        refuse(ppc_path, *ppc, "makes " + std::to_string(total) + " particles per cell", allowed);
+      for (int k = 0; k < count[1] * count[2]; ++k)
+        for (int i = 0; i < count[0]; ++i) {
+          std::array<double, 3> xi{};
+          const int j = k % count[1], l = k / count[1];
+          xi[0] = (i + 0.5) / count[0];
+          if (n > 1) xi[1] = (j + 0.5) / count[1];
+          if (n > 2) xi[2] = (l + 0.5) / count[2];
+          body.layout.push_back(xi);
+        }
     } else {
-      const std::string allowed =
-          "an array of 1 to " + std::to_string(max_particles_per_cell) + " numbers in [0, 1]";
+      const std::string point = n == 1 ? "a number in [0, 1]"
+                                       : "an array of " + std::to_string(n) + " numbers in [0, 1]";
+      const std::string allowed = "an array of 1 to " + std::to_string(max_particles_per_cell) +
+                                  (n == 1 ? " numbers in [0, 1]" : " points, each " + point);
       array(*pic, pic_path, allowed);
       if (pic->empty() || pic->size() > max_particles_per_cell)
         refuse(pic_path, *pic, "has " + std::to_string(pic->size()) + " entries", allowed);
       for (std::size_t j = 0; j < pic->size(); ++j) {
         const std::string p = index_path(pic_path, j);
-        const double xi = number((*pic)[j], p, "a number in [0, 1]");
-        if (!(xi >= 0 && xi <= 1)) not_allowed(p, (*pic)[j], "a number in [0, 1]");
-        body.positions_in_cell.push_back(xi);
+        std::array<double, 3> xi{};
+        if (n == 1) {
+          xi[0] = number((*pic)[j], p, point);
+          if (!(xi[0] >= 0 && xi[0] <= 1)) not_allowed(p, (*pic)[j], point);
+        } else {
+          const auto coords = numbers((*pic)[j], p, n, "local coordinates in [0, 1]");
+          for (std::size_t a = 0; a < n; ++a) {
+            xi[a] = coords[a];
+            if (!(xi[a] >= 0 && xi[a] <= 1))
+              not_allowed(index_path(p, a), (*pic)[j][a], "a number in [0, 1]");
+          }
+        }
+        body.layout.push_back(xi);
       }
     }
-    const std::size_t layout = body.positions_in_cell.size();
+    const std::size_t layout = body.layout.size();
     body.masses_in_cell.assign(layout, 1.0);
     if (const json* w = find(b, "masses_in_cell")) {
       const std::string w_path = key_path(path, "masses_in_cell");
@@ -490,40 +582,53 @@ class Parser {
   // Every body holds a particle; no particle lies in two boxes.
   void check_seeds(const Scene& s, const json& bodies) const {
     const auto nb = s.bodies.size();
-    std::vector<std::vector<std::vector<AxisSeed>>> seeds(nb);  // [body][axis]
+    const auto dim = static_cast<std::size_t>(s.dimension);
     for (std::size_t i = 0; i < nb; ++i) {
-      for (int a = 0; a < s.dimension; ++a) {
-        seeds[i].push_back(axis_seeds(s.grid, s.bodies[i], a));
-        if (seeds[i].back().empty())
-          refuse(index_path("bodies", i) + ".box", bodies[i]["box"],
-                 "holds no particle: no origin + (k + xi) * cell_size with xi in " +
-                     numbers_text(s.bodies[i].positions_in_cell) + " lies in [min, max) on axis " +
-                     axis_names[a],
-                 "a box holding at least one particle");
+      const BodySpec& b = s.bodies[i];
+      bool any = false;
+      for_each_seed(s, b, box_cells(s, b.box_min, b.box_max), [&](const Seed&) {
+        any = true;
+        return false;
+      });
+      if (any) continue;
+      std::string layout;
+      for (const auto& xi : b.layout) {
+        std::vector<double> point(xi.begin(), xi.begin() + static_cast<std::ptrdiff_t>(dim));
+        layout += (layout.empty() ? "" : ", ") +
+                  (dim == 1 ? format_number(xi[0]) : numbers_text(point));
       }
+      refuse(index_path("bodies", i) + ".box", bodies[i]["box"],
+             "holds no particle: no origin + (k + xi) * cell_size with xi in [" + layout +
+                 "] lies in [min, max)",
+             "a box holding at least one particle");
     }
     for (std::size_t j = 0; j < nb; ++j) {
       for (std::size_t i = 0; i < j; ++i) {
-        // A seed of body p inside body q's box, found axis by axis since both are products.
+        std::vector<double> lo(dim), hi(dim);
+        bool meet = true;
+        for (std::size_t a = 0; a < dim; ++a) {
+          lo[a] = std::max(s.bodies[i].box_min[a], s.bodies[j].box_min[a]);
+          hi[a] = std::min(s.bodies[i].box_max[a], s.bodies[j].box_max[a]);
+          if (!(lo[a] < hi[a])) meet = false;
+        }
+        if (!meet) continue;
+        // A seed of body p inside body q's box: only the cells of the two boxes' intersection.
         for (const auto& [p, q] : {std::pair{i, j}, std::pair{j, i}}) {
-          std::vector<double> x;
-          std::vector<int> cell;
-          for (int a = 0; a < s.dimension; ++a) {
-            const auto ax = static_cast<std::size_t>(a);
-            const auto& lo = s.bodies[q].box_min[ax];
-            const auto& hi = s.bodies[q].box_max[ax];
-            for (const auto& seed : seeds[p][ax]) {
-              if (lo <= seed.x && seed.x < hi) {
-                x.push_back(seed.x);
-                cell.push_back(seed.cell);
-                break;
-              }
-            }
-          }
-          if (x.size() != static_cast<std::size_t>(s.dimension)) continue;
+          std::optional<Seed> shared;
+          for_each_seed(s, s.bodies[p], box_cells(s, lo, hi), [&](const Seed& seed) {
+            for (std::size_t a = 0; a < dim; ++a)
+              if (!(s.bodies[q].box_min[a] <= seed.x[a] && seed.x[a] < s.bodies[q].box_max[a]))
+                return true;
+            shared = seed;
+            return false;
+          });
+          if (!shared) continue;
           std::string cell_text;
-          for (std::size_t a = 0; a < cell.size(); ++a)
-            cell_text += (a ? ", " : "") + std::to_string(cell[a]);
+          std::vector<double> x;
+          for (std::size_t a = 0; a < dim; ++a) {
+            cell_text += (a ? ", " : "") + std::to_string(shared->cell[a]);
+            x.push_back(shared->x[a]);
+          }
           refuse(index_path("bodies", j) + ".box", bodies[j]["box"],
                  "overlaps bodies[" + std::to_string(i) + "].box: both claim the particle of " +
                      index_path("bodies", p) +
@@ -546,58 +651,163 @@ class Parser {
       if (index >= 2 * s.dimension)
         fail(path,
              "unknown key in " + std::to_string(s.dimension) + "D; allowed keys: " + join(sides));
-      if (s.grid.periodic)
-        refuse(path, it.value(), "is not allowed on a periodic grid",
-               "no boundaries entry when grid.periodic is true");
-      s.boundaries[index / 2][index % 2] = parse_boundary(it.value(), path);
+      const int axis = index / 2;
+      if (s.grid.periodic[static_cast<std::size_t>(axis)])
+        refuse(path, it.value(), "is not allowed on a periodic axis",
+               std::string("no boundaries entry for axis ") + axis_names[axis] +
+                   " when grid.periodic is true on it");
+      auto& segments = s.boundaries[axis][index % 2];
+      const json& v = it.value();
+      if (v.is_array() && s.dimension > 1) {
+        if (v.empty())
+          refuse(path, v, "holds no segment", "a condition object or an array of segments");
+        for (std::size_t j = 0; j < v.size(); ++j)
+          segments.push_back(parse_boundary(v[j], index_path(path, j), s, axis, true));
+        check_segments(segments, path, v, s, axis);
+      } else {
+        const std::string allowed = s.dimension == 1
+                                        ? "an object with type (and value)"
+                                        : "an object with type (value, range) or an array of them";
+        if (!v.is_object()) wrong_type(path, v, allowed);
+        segments.push_back(parse_boundary(v, path, s, axis, false));
+        if (segments.back().has_range) check_segments(segments, path, v, s, axis);
+      }
     }
   }
 
-  BoundarySpec parse_boundary(const json& v, const std::string& path) const {
-    check_object(v, path, {"type", "value"});
+  // Ranges inside the side and disjoint (touching is allowed); sorted along the side.
+  void check_segments(std::vector<BoundarySpec>& segments, const std::string& path, const json& v,
+                      const Scene& s, int axis) const {
+    const auto t = static_cast<std::size_t>(1 - axis);  // the side's tangential axis (2D)
+    const double lo = s.grid.origin[t], hi = s.grid.upper(t);
+    const double slack = 1e-12 * (hi - lo);
+    const std::string side_text = std::string("the side's extent along ") + axis_names[t] +
+                                  " [" + format_number(lo) + ", " + format_number(hi) + "]";
+    for (std::size_t j = 0; j < segments.size(); ++j) {
+      const BoundarySpec& b = segments[j];
+      const json& range = v.is_array() ? v[j]["range"] : v["range"];
+      const std::string rpath = (v.is_array() ? index_path(path, j) : path) + ".range";
+      if (!b.has_range)
+        fail(rpath, "missing required key for a segment in a list; allowed: [from, to] within " +
+                        side_text);
+      if (b.range_lo < lo - slack || b.range_hi > hi + slack)
+        refuse(rpath, range, "is outside " + side_text, "[from, to] within " + side_text);
+    }
+    std::vector<std::size_t> order(segments.size());
+    for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return segments[a].range_lo < segments[b].range_lo;
+    });
+    for (std::size_t j = 1; j < order.size(); ++j) {
+      const BoundarySpec &prev = segments[order[j - 1]], &next = segments[order[j]];
+      if (next.range_lo < prev.range_hi)
+        refuse(index_path(path, order[j]) + ".range", v[order[j]]["range"],
+               "overlaps " + index_path(path, order[j - 1]) + ".range " +
+                   show(v[order[j - 1]]["range"]),
+               "segments that do not overlap (they may touch)");
+    }
+    std::vector<BoundarySpec> sorted;
+    for (std::size_t j : order) sorted.push_back(segments[j]);
+    segments = sorted;
+  }
+
+  BoundarySpec parse_boundary(const json& v, const std::string& path, const Scene& s, int axis,
+                              bool in_list) const {
+    const bool plane = s.dimension > 1;
+    if (plane)
+      check_object(v, path, {"type", "value", "range"});
+    else
+      check_object(v, path, {"type", "value"});
     BoundarySpec bc;
     const std::string type_path = key_path(path, "type");
-    bc.kind = named(
-        require(v, path, "type", "one of free, fixed, traction, velocity"), type_path,
-        {BoundaryKind::free, BoundaryKind::fixed, BoundaryKind::traction, BoundaryKind::velocity});
+    if (plane)
+      bc.kind = named(require(v, path, "type", "one of free, fixed, traction, velocity, roller"),
+                      type_path,
+                      {BoundaryKind::free, BoundaryKind::fixed, BoundaryKind::traction,
+                       BoundaryKind::velocity, BoundaryKind::roller});
+    else
+      bc.kind = named(require(v, path, "type", "one of free, fixed, traction, velocity"),
+                      type_path,
+                      {BoundaryKind::free, BoundaryKind::fixed, BoundaryKind::traction,
+                       BoundaryKind::velocity});
+    if (const json* r = find(v, "range")) {
+      const auto range = numbers(*r, key_path(path, "range"), 2,
+                                 std::string("metres along ") + axis_names[1 - axis]);
+      if (!(range[0] < range[1]))
+        refuse(key_path(path, "range"), *r, "is empty or reversed", "[from, to] with from < to");
+      bc.has_range = true;
+      bc.range_lo = range[0];
+      bc.range_hi = range[1];
+    }
+    (void)in_list;
     const std::string value_path = key_path(path, "value");
-    const std::string allowed = "a number or a table [[t0, v0], [t1, v1], ...]";
+    const auto n = static_cast<std::size_t>(s.dimension);
+    const std::string what =
+        bc.kind == BoundaryKind::velocity
+            ? (plane ? "v_x, v_y" : "v")
+            : (plane ? (axis == 0 ? "sigma_xx, sigma_xy" : "sigma_yy, sigma_xy") : "sigma");
+    const std::string one = plane ? "[" + what + "]" : "a number";
+    const std::string allowed = one + " or a table [[t0, " + (plane ? one : "v0") + "], [t1, " +
+                                (plane ? one : "v1") + "], ...]";
     const json* value = find(v, "value");
     const bool needs_value = bc.kind == BoundaryKind::traction || bc.kind == BoundaryKind::velocity;
     if (!needs_value) {
       if (value)
         refuse(value_path, *value,
                std::string("is not allowed with type \"") + dgmpm::to_string(bc.kind) + "\"",
-               "no value for free and fixed ends");
+               plane ? "no value for free, fixed and roller" : "no value for free and fixed ends");
       return bc;
     }
     if (!value)
       fail(value_path, std::string("missing required key for type \"") + dgmpm::to_string(bc.kind) +
                            "\"; allowed: " + allowed);
-    if (value->is_number()) {
+    // A constant: a number (1D) or an array of numbers (2D).
+    const bool constant = plane ? (value->is_array() && !value->empty() && (*value)[0].is_number())
+                                : value->is_number();
+    if (constant) {
       bc.times = {0.0};
-      bc.values = {number(*value, value_path, allowed)};
+      bc.values = plane ? numbers(*value, value_path, n, what)
+                        : std::vector<double>{number(*value, value_path, allowed)};
       return bc;
     }
     if (!value->is_array()) wrong_type(value_path, *value, allowed);
     if (value->empty()) refuse(value_path, *value, "is an empty table", allowed);
     for (std::size_t k = 0; k < value->size(); ++k) {
       const std::string row = index_path(value_path, k);
-      const auto pair = numbers((*value)[k], row, 2, "a pair [time, value]");
-      if (k == 0 && !(pair[0] >= 0))
-        refuse(row + "[0]", (*value)[k][0], "is a negative time", "times >= 0");
-      if (k > 0 && !(pair[0] > bc.times.back()))
-        refuse(row + "[0]", (*value)[k][0],
-               "is not after the previous time " + format_number(bc.times.back()),
+      const json& r = (*value)[k];
+      const std::string row_allowed = plane ? "a pair [time, " + one + "]" : "a pair [time, value]";
+      array(r, row, row_allowed);
+      if (r.size() != 2) refuse(row, r, "has " + std::to_string(r.size()) + " entries", row_allowed);
+      const double time = number(r[0], row + "[0]", "a time >= 0");
+      if (k == 0 && !(time >= 0)) refuse(row + "[0]", r[0], "is a negative time", "times >= 0");
+      if (k > 0 && !(time > bc.times.back()))
+        refuse(row + "[0]", r[0], "is not after the previous time " + format_number(bc.times.back()),
                "strictly increasing times");
-      bc.times.push_back(pair[0]);
-      bc.values.push_back(pair[1]);
+      bc.times.push_back(time);
+      if (plane) {
+        for (double x : numbers(r[1], row + "[1]", n, what)) bc.values.push_back(x);
+      } else {
+        bc.values.push_back(number(r[1], row + "[1]", "a number"));
+      }
     }
     return bc;
   }
 
   void parse_output(const json& o, Scene& s) const {
-    check_object(o, "output", {"directory", "times"});
+    check_object(o, "output", {"directory", "times", "formats"});
+    if (const json* f = find(o, "formats")) {
+      const std::string allowed = "an array of one or both of \"csv\", \"vtu\"";
+      array(*f, "output.formats", allowed);
+      if (f->empty()) refuse("output.formats", *f, "is empty", allowed);
+      s.output.csv = s.output.vtu = false;
+      for (std::size_t k = 0; k < f->size(); ++k) {
+        const std::string p = index_path("output.formats", k);
+        bool& on = choice<int>((*f)[k], p, {{"csv", 0}, {"vtu", 1}}) == 0 ? s.output.csv
+                                                                            : s.output.vtu;
+        if (on) refuse(p, (*f)[k], "is listed twice", "each format once");
+        on = true;
+      }
+    }
     if (const json* d = find(o, "directory")) {
       if (!d->is_string()) wrong_type("output.directory", *d, "a non-empty path");
       if (d->get<std::string>().empty()) not_allowed("output.directory", *d, "a non-empty path");
@@ -687,23 +897,11 @@ std::vector<Seed> body_seeds(const Scene& scene, std::size_t body) {
   if (body >= scene.bodies.size() || scene.dimension < 1 || scene.dimension > 3)
     throw std::out_of_range("body_seeds: no such body");
   const BodySpec& b = scene.bodies[body];
-  std::vector<std::vector<AxisSeed>> axes;
-  std::size_t total = 1;
-  for (int a = 0; a < scene.dimension; ++a) {
-    axes.push_back(axis_seeds(scene.grid, b, a));
-    total *= axes.back().size();
-  }
-  std::vector<Seed> seeds(total);
-  for (std::size_t n = 0; n < total; ++n) {
-    std::size_t rest = n;
-    for (std::size_t a = 0; a < axes.size(); ++a) {
-      const AxisSeed& s = axes[a][rest % axes[a].size()];
-      rest /= axes[a].size();
-      seeds[n].cell[a] = s.cell;
-      seeds[n].local[a] = s.local;
-      seeds[n].x[a] = s.x;
-    }
-  }
+  std::vector<Seed> seeds;
+  for_each_seed(scene, b, box_cells(scene, b.box_min, b.box_max), [&](const Seed& seed) {
+    seeds.push_back(seed);
+    return true;
+  });
   return seeds;
 }
 

@@ -4,6 +4,7 @@
 // names the key path, the value found and what is allowed.
 
 #include <dgmpm/boundary.hpp>
+#include <dgmpm/dg_operator.hpp>
 #include <stability/options.hpp>
 
 #include <array>
@@ -30,7 +31,8 @@ using stability::to_string;
 struct GridSpec {
   std::vector<double> origin, cell_size;  // one entry per dimension
   std::vector<int> cells;
-  bool periodic = false;  // every axis
+  std::array<bool, 3> periodic{};  // per axis; "periodic": true means every axis
+  double upper(std::size_t axis) const { return origin[axis] + cells[axis] * cell_size[axis]; }
 };
 
 struct MaterialSpec {
@@ -42,18 +44,22 @@ struct MaterialSpec {
 struct BodySpec {
   int material = 0;  // index into Scene::materials
   std::vector<double> box_min, box_max;
-  // Local coordinates in [0, 1] of the particles of one cell, per axis (the layout is the
-  // tensor product). From "particles_per_cell" N: (k + 1/2) / N.
-  std::vector<double> positions_in_cell;
-  std::vector<double> masses_in_cell;  // relative weights, one per position; equal by default
+  // Local coordinates in [0, 1]^dimension of the particles of one cell (unused axes 0). From
+  // "particles_per_cell" [N_x, N_y]: ((i + 1/2) / N_x, (j + 1/2) / N_y), x fastest.
+  std::vector<std::array<double, 3>> layout;
+  std::vector<double> masses_in_cell;  // relative weights, one per particle; equal by default
   std::vector<double> velocity;        // dimension entries
-  std::vector<double> stress;          // 1D: [sigma]
+  std::vector<double> stress;          // 1D: [sigma]; 2D: [sigma_xx, sigma_yy, sigma_xy]
 };
 
+// One condition on a side, or on the segment [range_lo, range_hi] of it (2D: metres along the
+// side's other axis).
 struct BoundarySpec {
   BoundaryKind kind = BoundaryKind::free;
   std::vector<double> times;   // one entry for a constant value
-  std::vector<double> values;  // same length as times
+  std::vector<double> values;  // dimension entries per time (traction: sigma_nn, sigma_nt)
+  bool has_range = false;
+  double range_lo = 0, range_hi = 0;
 };
 
 struct TimeSpec {
@@ -68,6 +74,8 @@ struct TimeSpec {
 struct OutputSpec {
   std::string directory;      // empty: nothing written
   std::vector<double> times;  // particle fields written at these times (sorted)
+  bool csv = true;            // particles_NNN.csv
+  bool vtu = false;           // particles_NNN.vtu and particles.pvd (default in 2D)
 };
 
 struct Scene {
@@ -77,7 +85,9 @@ struct Scene {
   GridSpec grid;
   std::vector<MaterialSpec> materials;
   std::vector<BodySpec> bodies;
-  BoundarySpec boundaries[3][2];  // [axis][side]: xmin, xmax, ymin, ...
+  FluxScheme flux = FluxScheme::dcu;  // DGMPM in 2D
+  // [axis][side]: xmin, xmax, ymin, ...; segments sorted along the side, disjoint; none: free.
+  std::vector<BoundarySpec> boundaries[3][2];
   TimeSpec time;
   bool particles_move = false;
   bool fill_correction = false;      // DGMPM: pseudo-stiffness scaled to the cell's volume
@@ -93,17 +103,17 @@ const char* to_string(Method);
 const char* to_string(MpmUpdate);
 
 // One particle a body generates. Its position on each axis is exactly
-// origin + (cell + positions_in_cell[local]) * cell_size, evaluated in that order, and the body's
-// box claims it when box_min <= x < box_max on every axis. Validation uses the same rule, so a
-// parsed scene's bodies each hold at least one seed and no seed lies in two boxes.
+// origin + (cell + layout[local]) * cell_size, evaluated in that order, and the body's box claims
+// it when box_min <= x < box_max on every axis. Validation uses the same rule, so a parsed
+// scene's bodies each hold at least one seed and no seed lies in two boxes.
 struct Seed {
-  std::array<int, 3> cell{};   // per axis; unused axes 0
-  std::array<int, 3> local{};  // per axis, index into positions_in_cell and masses_in_cell
-  std::array<double, 3> x{};   // per axis; unused axes 0
+  std::array<int, 3> cell{};  // per axis; unused axes 0
+  int local = 0;              // index into layout and masses_in_cell
+  std::array<double, 3> x{};  // per axis; unused axes 0
 };
 
-// The seeds of scene.bodies[body]. Along each axis they go cell by cell and, inside a cell, in the
-// order of positions_in_cell; the seeds are the tensor product of the axes, the first axis fastest.
+// The seeds of scene.bodies[body]: cell by cell (the first axis fastest) and, inside a cell, in
+// the order of the layout.
 std::vector<Seed> body_seeds(const Scene& scene, std::size_t body);
 
 }  // namespace dgmpm::scene

@@ -1,8 +1,9 @@
 #include "solver/scene_spectrum.hpp"
 
 #include "solver/problem.hpp"
+#include "solver/simulation.hpp"
 
-#include <dgmpm/time_integration.hpp>
+#include <dgmpm/stepper.hpp>
 #include <stability/arpack_spectrum.hpp>
 #include <stability/courant_search.hpp>
 #include <stability/step_operator.hpp>
@@ -11,53 +12,50 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <ostream>
-#include <variant>
 
 namespace dgmpm {
 
-SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tolerance) {
-  if (scene.method != scene::Method::dgmpm)
-    throw scene::SceneError(scene.source + ": method: value \"" + scene::to_string(scene.method) +
-                            "\" has no DGMPM operator to analyse; allowed: \"dgmpm\"");
-  BarProblem problem = make_bar_problem(scene);
-  using Physics = ElasticBar;
+namespace {
 
+// The scene's operator with homogeneous boundary data: a traction side acts as a free one, a
+// velocity side as a fixed one (their linear parts); both reflect, as void cells do, so the
+// operator is normal enough for its spectrum to speak.
+template <int Dim>
+Boundaries<Dim> homogeneous(const Boundaries<Dim>& b) {
+  Boundaries<Dim> h = b;
+  for (auto& axis : h)
+    for (auto& side : axis)
+      for (auto& s : side.segments) {
+        if (s.condition.kind == BoundaryKind::traction) s.condition.kind = BoundaryKind::free;
+        if (s.condition.kind == BoundaryKind::velocity) s.condition.kind = BoundaryKind::fixed;
+        s.condition.value = {};
+      }
+  return h;
+}
+
+template <class Physics>
+SceneSpectrumResult analyse(const scene::Scene& scene, double tolerance) {
+  Problem<Physics> problem = make_problem<Physics>(scene);
   SceneSpectrumResult result;
-  // The homogeneous operator: a traction end acts as a free end, a velocity end as a fixed one;
-  // both reflect, as void cells do, so the operator is normal enough for its spectrum to speak.
-  Boundaries<1> homogeneous;
-  for (int side = 0; side < 2; ++side) {
-    const BoundaryKind k = problem.boundaries[0][side].kind;
-    homogeneous[0][side].kind = (k == BoundaryKind::fixed || k == BoundaryKind::velocity)
-                                    ? BoundaryKind::fixed
-                                    : BoundaryKind::free;
-  }
-  result.boundaries = problem.grid.periodic[0] ? "periodic" : "reflecting";
-  result.note = problem.grid.periodic[0]
+  bool periodic = true;
+  for (int a = 0; a < Physics::dim; ++a) periodic = periodic && problem.grid.periodic[a];
+  result.boundaries = periodic ? "periodic" : "reflecting";
+  result.note = periodic
                     ? "periodic grid: the spectrum is that of the von Neumann analysis on the "
                       "grid's wavenumbers"
-                    : "free or fixed ends (traction and velocity ends act as free and fixed in the "
-                      "linear part) reflect waves: the spectrum is meaningful";
-
-  Discretisation<Physics> disc;
-  disc.build(problem.grid, problem.particles, problem.materials);
-  const DGOperator<Physics> op(problem.grid, disc, homogeneous);
-  std::variant<ForwardEuler<Physics>, HeunRK2<Physics>> integrator;
-  if (scene.time.integrator == scene::Integrator::rk2) integrator.emplace<HeunRK2<Physics>>();
+                    : "free, fixed or roller sides (traction and velocity sides act as free and "
+                      "fixed in the linear part) reflect waves: the spectrum is meaningful";
+  const Boundaries<Physics::dim> bc = homogeneous<Physics::dim>(problem.boundaries);
+  Stepper<Physics> stepper(problem.grid, bc, stepper_options(scene));
+  stepper.rebuild(problem.particles, problem.materials);
 
   const double c_max = problem.max_wave_speed();
   const double h = problem.grid.cell_size.minCoeff();
   const int n = Physics::n_comp * problem.particles.size();
   result.unknowns = n;
-
   const auto radius = [&](double courant) {
-    const double dt = courant * h / c_max;
-    return std::visit(
-        [&](auto& integ) {
-          return stability::spectral_radius(
-              n, stability::step_operator(op, integ, problem.particles.mass, dt));
-        },
-        integrator);
+    return stability::spectral_radius(
+        n, stability::step_operator(stepper, problem.particles.mass, courant * h / c_max));
   };
 
   stability::SearchOptions options;
@@ -73,6 +71,16 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
   result.evaluations = search.evaluations;
   if (!scene.time.courant_auto) result.radius_at_scene_courant = radius(scene.time.courant);
   return result;
+}
+
+}  // namespace
+
+SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tolerance) {
+  if (scene.method != scene::Method::dgmpm)
+    throw scene::SceneError(scene.source + ": method: value \"" + scene::to_string(scene.method) +
+                            "\" has no DGMPM operator to analyse; allowed: \"dgmpm\"");
+  return scene.dimension == 1 ? analyse<ElasticBar>(scene, tolerance)
+                              : analyse<PlaneStrain>(scene, tolerance);
 }
 
 int scene_courant_command(const std::string& path, bool json, std::ostream& out,

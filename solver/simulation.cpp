@@ -2,33 +2,21 @@
 
 #include "solver/mpm.hpp"
 #include "solver/output.hpp"
+#include "solver/vtk_output.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <stability/layout.hpp>
 #include <unistd.h>
-#include <variant>
 
 namespace dgmpm {
-
-using Physics = ElasticBar;
-
-struct Simulation::Stepper {
-  // DGMPM: the operators of the current configuration and one integrator (no RK2 buffers for
-  // Euler).
-  Discretisation<Physics> disc;
-  std::unique_ptr<DGOperator<Physics>> op;
-  std::variant<std::monostate, ForwardEuler<Physics>, HeunRK2<Physics>> integrator;
-  // MPM baseline.
-  std::unique_ptr<Mpm<1>> mpm;
-};
 
 namespace {
 
@@ -44,9 +32,10 @@ MpmVariant mpm_variant(scene::Method m) {
 }
 
 // Particles sorted by cell so that the per-cell loops read contiguous memory.
-void sort_by_cell(const Grid<1>& grid, Particles<1, Physics::n_comp>& particles) {
+template <int Dim, int NComp>
+void sort_by_cell(const Grid<Dim>& grid, Particles<Dim, NComp>& particles) {
   std::vector<int> cell(particles.size());
-  Eigen::Matrix<double, 1, 1> xi;
+  Eigen::Matrix<double, Dim, 1> xi;
   for (int p = 0; p < particles.size(); ++p) cell[p] = grid.locate(particles.position.col(p), xi);
   std::vector<int> order(particles.size());
   std::iota(order.begin(), order.end(), 0);
@@ -60,7 +49,30 @@ std::string format_step(long step, double t) {
   return s.str();
 }
 
+template <int Dim>
+std::string grid_extent(const Grid<Dim>& g) {
+  std::ostringstream s;
+  for (int a = 0; a < Dim; ++a)
+    s << (a ? " x [" : "[") << g.origin[a] << ", " << g.upper(a) << "]";
+  return s.str();
+}
+
+template <int Dim>
+bool has_loads(const Grid<Dim>& grid, const Boundaries<Dim>& boundaries) {
+  for (int a = 0; a < Dim; ++a)
+    for (int side = 0; side < 2 && !grid.periodic[a]; ++side)
+      for (const auto& s : boundaries[a][side].segments)
+        if (s.condition.kind == BoundaryKind::traction ||
+            s.condition.kind == BoundaryKind::velocity)
+          return true;
+  return false;
+}
+
 }  // namespace
+
+StepperOptions stepper_options(const scene::Scene& scene) {
+  return {scene.time.integrator, scene.flux, scene.fill_correction};
+}
 
 nlohmann::json RunSummary::to_json() const {
   nlohmann::json j;
@@ -71,6 +83,7 @@ nlohmann::json RunSummary::to_json() const {
   j["wall_seconds"] = wall_seconds;
   j["energy_initial"] = energy_initial;
   j["energy_final"] = energy_final;
+  j["boundary_work"] = boundary_work;
   if (stress_errors && velocity_errors) {
     const auto norms = [](const ErrorNorms& e) {
       return nlohmann::json{{"l1", e.l1}, {"l2", e.l2}, {"max", e.max}};
@@ -83,38 +96,49 @@ nlohmann::json RunSummary::to_json() const {
   return j;
 }
 
-ErrorNorms relative_errors(const Eigen::VectorXd& computed, const Eigen::VectorXd& exact,
-                           const Eigen::VectorXd& volume, const Eigen::VectorXd& fallback) {
-  const Eigen::ArrayXd e = (computed - exact).array().abs();
+ErrorNorms relative_errors(const Eigen::MatrixXd& computed, const Eigen::MatrixXd& exact,
+                           const Eigen::VectorXd& volume, const Eigen::MatrixXd& fallback) {
+  const Eigen::ArrayXd e = (computed - exact).colwise().norm().transpose().array();
   const auto norms = [&](const Eigen::ArrayXd& u) {
     return ErrorNorms{(volume.array() * u).sum(), std::sqrt((volume.array() * u.square()).sum()),
                       u.size() ? u.maxCoeff() : 0.0};
   };
-  const ErrorNorms err = norms(e), ref = norms(exact.array().abs()),
-                   alt = norms(fallback.array().abs());
+  const ErrorNorms err = norms(e), ref = norms(exact.colwise().norm().transpose().array()),
+                   alt = norms(fallback.colwise().norm().transpose().array());
   const auto scale = [](double r, double a) { return r > 0 ? r : (a > 0 ? a : 1.0); };
   return {err.l1 / scale(ref.l1, alt.l1), err.l2 / scale(ref.l2, alt.l2),
           err.max / scale(ref.max, alt.max)};
 }
 
-Simulation::Simulation(const scene::Scene& scene)
-    : scene_(scene), problem_(make_bar_problem(scene)), stepper_(std::make_unique<Stepper>()) {
+std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene) {
+  switch (scene.dimension) {
+    case 1:
+      return std::make_unique<Simulation<ElasticBar>>(scene);
+    case 2:
+      return std::make_unique<Simulation<PlaneStrain>>(scene);
+    default:
+      throw scene::SceneError(scene.source + ": dimension: value " +
+                              std::to_string(scene.dimension) + " is not implemented; allowed: 1 or 2");
+  }
+}
+
+template <class Physics>
+Simulation<Physics>::Simulation(const scene::Scene& scene)
+    : scene_(scene), problem_(make_problem<Physics>(scene)) {
   sort_by_cell(problem_.grid, problem_.particles);
   reference_position_ = problem_.particles.position;
   const double h = problem_.grid.cell_size.minCoeff();
   if (scene_.method == scene::Method::dgmpm) {
-    stepper_->disc.set_fill_correction(scene_.fill_correction);
-    stepper_->disc.build(problem_.grid, problem_.particles, problem_.materials);
-    stepper_->op =
-        std::make_unique<DGOperator<Physics>>(problem_.grid, stepper_->disc, problem_.boundaries);
-    if (scene_.time.integrator == scene::Integrator::rk2)
-      stepper_->integrator.emplace<HeunRK2<Physics>>();
-    else
-      stepper_->integrator.emplace<ForwardEuler<Physics>>();
-    time_control_.emplace(scene_.time, scene_.particles_move);
-    dt_ = time_control_->time_step(stepper_->disc, problem_.particles, h);
-    if (!time_control_->automatic()) warn_if_above_admissible();
+    stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
+                                                  stepper_options(scene_));
+    stepper_->rebuild(problem_.particles, problem_.materials);
+    time_control_.emplace(scene_);
+    dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
+    if constexpr (dim == 1)
+      if (!time_control_->automatic()) warn_if_above_admissible();
     if (!scene_.fill_correction) warn_if_overfull_cell(0, 0.0);
+    loaded_ = has_loads<dim>(problem_.grid, problem_.boundaries);
+    if (loaded_) power_ = load_power();
   } else {
     if (scene_.time.courant_auto)
       throw scene::SceneError(scene_.source +
@@ -122,26 +146,31 @@ Simulation::Simulation(const scene::Scene& scene)
                               scene::to_string(scene_.method) +
                               "\"; allowed: a positive number (the stability analysis is DGMPM's)");
     dt_ = scene_.time.courant * h / problem_.max_wave_speed();
-    stepper_->mpm = std::make_unique<Mpm<1>>(problem_.grid, problem_.boundaries, problem_.materials,
-                                             mpm_variant(scene_.method), scene_.update);
+    mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
+                                          mpm_variant(scene_.method), scene_.update);
   }
 }
 
-Simulation::~Simulation() = default;
+template <class Physics>
+Simulation<Physics>::~Simulation() = default;
 
-void Simulation::warn_if_above_admissible() {
-  const auto limit = time_control_->smallest_admissible(stepper_->disc, problem_.particles,
-                                                        problem_.grid.cell_volume());
-  if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
-  std::ostringstream s;
-  s << "Courant number " << scene_.time.courant << " is above the admissible "
-    << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
-    << ", " << scene::to_string(scene_.time.integrator) << ") of the layout of cell " << limit.cell
-    << " (positions " << stability::describe(limit.layout.positions) << ", masses "
-    << stability::describe(limit.layout.masses) << (limit.fill < 1 ? ", fill " : "");
-  if (limit.fill < 1) s << limit.fill;
-  s << "): the run may be unstable";
-  warnings_.push_back(s.str());
+template <class Physics>
+void Simulation<Physics>::warn_if_above_admissible() {
+  if constexpr (dim == 1) {
+    const auto limit = time_control_->smallest_admissible(
+        stepper_->discretisation(), problem_.particles, problem_.grid.cell_volume());
+    if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
+    std::ostringstream s;
+    s << "Courant number " << scene_.time.courant << " is above the admissible "
+      << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
+      << ", " << scene::to_string(scene_.time.integrator) << ") of the layout of cell "
+      << limit.cell << " (positions " << stability::describe(limit.layout.positions)
+      << ", masses " << stability::describe(limit.layout.masses)
+      << (limit.fill < 1 ? ", fill " : "");
+    if (limit.fill < 1) s << limit.fill;
+    s << "): the run may be unstable";
+    warnings_.push_back(s.str());
+  }
 }
 
 // A cell whose particles carry more than rho times its volume (moving particles piling up) breaks
@@ -149,12 +178,13 @@ void Simulation::warn_if_above_admissible() {
 // do not, so a constant state changes at a rate (fill - 1) F / (rho h) there, however small dt is.
 // No time step restores monotonicity then; the run says so once, naming where it began (unless
 // the scene asks for the fill correction, which removes the cause).
-void Simulation::warn_if_overfull_cell(long step, double t) {
-  const auto& disc = stepper_->disc;
+template <class Physics>
+void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
+  const auto& disc = stepper_->discretisation();
   const double volume = problem_.grid.cell_volume();
   for (int c = 0; c < disc.num_cells(); ++c) {
     if (!disc.occupied(c)) continue;
-    const double fill = TimeStepControl::fill(disc, c, volume);
+    const double fill = TimeStepControl<Physics>::fill(disc, c, volume);
     if (fill <= 1 + 1e-6) continue;
     std::ostringstream s;
     s << format_step(step, t) << ": cell " << c << " holds " << std::setprecision(6) << fill
@@ -167,54 +197,63 @@ void Simulation::warn_if_overfull_cell(long step, double t) {
   }
 }
 
-void Simulation::step(double dt) {
+// Power of the boundary loads on the current particle state (projected to the nodes).
+template <class Physics>
+double Simulation<Physics>::load_power() {
+  const auto& op = stepper_->op();
+  op.project(problem_.particles.state, problem_.particles.mass, nodal_);
+  return op.boundary_power(nodal_, time_);
+}
+
+template <class Physics>
+void Simulation<Physics>::step(double dt) {
   auto& particles = problem_.particles;
   try {
-    if (stepper_->mpm) {
-      stepper_->mpm->step(particles, time_, dt, scene_.particles_move);
+    if (mpm_) {
+      mpm_->step(particles, time_, dt, scene_.particles_move);
     } else {
-      std::visit(
-          [&](auto& integrator) {
-            if constexpr (!std::is_same_v<std::decay_t<decltype(integrator)>, std::monostate>)
-              integrator.step(*stepper_->op, particles.state, particles.mass, time_, dt);
-          },
-          stepper_->integrator);
+      stepper_->step(particles.state, particles.mass, time_, dt);
       if (scene_.particles_move) {
-        particles.position.row(0) += dt * particles.state.row(Physics::velocity);
-        stepper_->disc.build(problem_.grid, particles, problem_.materials);
+        particles.position += dt * particles.state.template bottomRows<dim>();
+        stepper_->rebuild(particles, problem_.materials);
         if (!overfull_warned_ && !scene_.fill_correction)
           warn_if_overfull_cell(steps_ + 1, time_ + dt);
         if (time_control_->automatic())
-          dt_ = time_control_->time_step(stepper_->disc, particles,
-                                         problem_.grid.cell_size.minCoeff());
+          dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), particles);
       }
     }
   } catch (const ParticleOutsideGrid& e) {
-    throw std::runtime_error(format_step(steps_ + 1, time_ + dt) + ": " + e.what() + " [" +
-                             std::to_string(problem_.grid.origin[0]) + ", " +
-                             std::to_string(problem_.grid.upper(0)) + "]");
+    throw std::runtime_error(format_step(steps_ + 1, time_ + dt) + ": " + e.what() + " " +
+                             grid_extent(problem_.grid));
   }
   time_ += dt;
   ++steps_;
   check_finite();
+  if (loaded_) {
+    const double power = load_power();
+    work_ += 0.5 * dt * (power_ + power);
+    power_ = power;
+  }
 }
 
-void Simulation::check_finite() const {
+template <class Physics>
+void Simulation<Physics>::check_finite() const {
   const auto& particles = problem_.particles;
   if (particles.state.allFinite()) return;
   for (int p = 0; p < particles.size(); ++p) {
     if (particles.state.col(p).allFinite() && particles.position.col(p).allFinite()) continue;
-    Eigen::Matrix<double, 1, 1> xi;
+    Eigen::Matrix<double, dim, 1> xi;
     const int cell = problem_.grid.locate(particles.position.col(p), xi);
     std::ostringstream s;
     s << format_step(steps_, time_) << ": non-finite state on particle " << particles.id[p]
-      << " (x = " << particles.position(0, p) << ", cell " << cell
+      << " (x = " << particles.position.col(p).transpose() << ", cell " << cell
       << "); the run is unstable: lower the Courant number";
     throw std::runtime_error(s.str());
   }
 }
 
-double Simulation::step_towards(double target) {
+template <class Physics>
+double Simulation<Physics>::step_towards(double target) {
   const double remaining = target - time_;
   if (remaining <= 1e-12 * dt_) {
     time_ = std::max(time_, target);
@@ -228,24 +267,23 @@ double Simulation::step_towards(double target) {
   return dt;
 }
 
-void Simulation::advance_to(double t_end) {
+template <class Physics>
+void Simulation<Physics>::advance_to(double t_end) {
   while (step_towards(t_end) > 0.0) {
   }
 }
 
-Eigen::VectorXd Simulation::stress() const {
+template <class Physics>
+typename Simulation<Physics>::Field Simulation<Physics>::physical_state() const {
   const auto& p = problem_.particles;
-  Eigen::VectorXd s(p.size());
+  Field s(ncomp, p.size());
   for (int i = 0; i < p.size(); ++i)
-    s[i] = Physics::stress_of(p.state.col(i), problem_.materials[p.material[i]].density);
+    s.col(i) = Physics::physical(p.state.col(i), problem_.materials[p.material[i]]);
   return s;
 }
 
-Eigen::VectorXd Simulation::velocity() const {
-  return problem_.particles.state.row(Physics::velocity).transpose();
-}
-
-Simulation::Energy Simulation::energy_parts() const {
+template <class Physics>
+typename Simulation<Physics>::Energy Simulation<Physics>::energy_parts() const {
   const auto& p = problem_.particles;
   Energy e;
   for (int i = 0; i < p.size(); ++i) {
@@ -256,38 +294,51 @@ Simulation::Energy Simulation::energy_parts() const {
   return e;
 }
 
-Eigen::VectorXd Simulation::exact_stress(double t) const {
+template <class Physics>
+typename Simulation<Physics>::Field Simulation<Physics>::exact_state(double t) const {
   const auto& p = problem_.particles;
-  Eigen::VectorXd s(p.size());
-  for (int i = 0; i < p.size(); ++i) s[i] = problem_.exact->stress(reference_position_(0, i), t);
+  Field s(ncomp, p.size());
+  for (int i = 0; i < p.size(); ++i) s.col(i) = problem_.exact(reference_position_.col(i), t);
   return s;
 }
 
-Eigen::VectorXd Simulation::exact_velocity(double t) const {
+template <class Physics>
+void Simulation<Physics>::write_particles(const std::string& path) const {
+  const Field s = physical_state();
+  std::optional<Field> ex;
+  if (problem_.exact) ex = exact_state(time_);
   const auto& p = problem_.particles;
-  Eigen::VectorXd v(p.size());
-  for (int i = 0; i < p.size(); ++i) v[i] = problem_.exact->velocity(reference_position_(0, i), t);
-  return v;
-}
-
-void Simulation::write_particles(const std::string& path) const {
-  const auto sigma = stress();
-  const auto v = velocity();
-  std::optional<Eigen::VectorXd> es, ev;
-  if (problem_.exact) es = exact_stress(time_), ev = exact_velocity(time_);
-  const auto& p = problem_.particles;
-  output::write_atomically(path, [&](std::ostream& out) {
-    out << "id,x,mass,stress,velocity" << (es ? ",exact_stress,exact_velocity" : "") << '\n';
-    for (int i = 0; i < p.size(); ++i) {
-      out << p.id[i] << ',' << p.position(0, i) << ',' << p.mass[i] << ',' << sigma[i] << ','
-          << v[i];
-      if (es) out << ',' << (*es)[i] << ',' << (*ev)[i];
+  if constexpr (dim == 1) {
+    output::write_atomically(path, [&](std::ostream& out) {
+      out << "id,x,mass,stress,velocity" << (ex ? ",exact_stress,exact_velocity" : "") << '\n';
+      for (int i = 0; i < p.size(); ++i) {
+        out << p.id[i] << ',' << p.position(0, i) << ',' << p.mass[i] << ',' << s(0, i) << ','
+            << s(1, i);
+        if (ex) out << ',' << (*ex)(0, i) << ',' << (*ex)(1, i);
+        out << '\n';
+      }
+    });
+  } else {
+    const char* fields = "sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y";
+    output::write_atomically(path, [&](std::ostream& out) {
+      out << "id,x,y,mass,volume," << fields;
+      if (ex)
+        out << ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,exact_velocity_y";
       out << '\n';
-    }
-  });
+      for (int i = 0; i < p.size(); ++i) {
+        out << p.id[i] << ',' << p.position(0, i) << ',' << p.position(1, i) << ',' << p.mass[i]
+            << ',' << p.volume[i];
+        for (int k = 0; k < ncomp; ++k) out << ',' << s(k, i);
+        if (ex)
+          for (int k = 0; k < ncomp; ++k) out << ',' << (*ex)(k, i);
+        out << '\n';
+      }
+    });
+  }
 }
 
-RunSummary Simulation::run(const RunOptions& options) {
+template <class Physics>
+RunSummary Simulation<Physics>::run(const RunOptions& options) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   RunSummary summary;
@@ -296,6 +347,7 @@ RunSummary Simulation::run(const RunOptions& options) {
 
   const std::string directory = options.output_directory.value_or(scene_.output.directory);
   const bool writes = !directory.empty();
+  const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
   std::vector<double> targets;
   if (writes) {
     output::create_directories(directory);
@@ -306,15 +358,14 @@ RunSummary Simulation::run(const RunOptions& options) {
   targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
 
   output::StreamedFile history;
-  const auto& particles = problem_.particles;
   const auto write_history = [&](double dt) {
     const Energy e = energy_parts();
     history.stream() << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic
-                     << ',' << e.total() << '\n';
+                     << ',' << e.total() << ',' << work_ << '\n';
   };
   if (writes) {
     history = output::StreamedFile(directory + "/energy.csv");
-    history.stream() << "step,time,dt,kinetic,elastic,total\n";
+    history.stream() << "step,time,dt,kinetic,elastic,total,boundary_work\n";
     write_history(0.0);
   }
 
@@ -322,6 +373,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   auto last_report = start;
   const double t_end = scene_.time.end;
   int output_index = 0;
+  std::vector<std::pair<double, std::string>> series;  // (time, .vtu file name)
   for (double target : targets) {
     for (double controlled = dt_, dt; (dt = step_towards(target)) > 0.0; controlled = dt_) {
       // The range of the controlled step; steps shortened to land on a time are not counted.
@@ -342,25 +394,44 @@ RunSummary Simulation::run(const RunOptions& options) {
     if (writes && std::find(scene_.output.times.begin(), scene_.output.times.end(), target) !=
                       scene_.output.times.end()) {
       char name[64];
-      std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index++);
-      write_particles(directory + name);
-      summary.files.push_back(directory + name);
+      if (csv) {
+        std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index);
+        write_particles(directory + name);
+        summary.files.push_back(directory + name);
+      }
+      if (vtu) {
+        std::snprintf(name, sizeof name, "particles_%03d.vtu", output_index);
+        vtk::write_particles<Physics>(directory + "/" + name, problem_.particles,
+                                      problem_.materials, physical_state(),
+                                      problem_.exact ? std::optional(exact_state(time_))
+                                                     : std::nullopt);
+        summary.files.push_back(directory + "/" + name);
+        series.emplace_back(time_, name);
+      }
+      ++output_index;
     }
   }
   if (progress) std::fprintf(stderr, "\r%78s\r", "");
+  if (vtu && writes && !series.empty()) {
+    vtk::write_series(directory + "/particles.pvd", series);
+    summary.files.push_back(directory + "/particles.pvd");
+  }
 
   summary.steps = steps_;
   summary.final_time = time_;
   summary.warnings = warnings_;
+  // MPM's load power is not tracked: null in the summary rather than a zero that means nothing.
+  summary.boundary_work = mpm_ ? std::numeric_limits<double>::quiet_NaN() : work_;
   if (time_control_) summary.layouts_analysed = time_control_->layouts_analysed();
   summary.energy_final = energy();
   if (problem_.exact) {
-    const Eigen::VectorXd& vol = particles.volume;
+    const Eigen::VectorXd& vol = problem_.particles.volume;
     // Where one exact field vanishes, the other one, through the impedance, sets the scale.
-    const double z = problem_.exact->impedance();
-    const Eigen::VectorXd s = exact_stress(time_), v = exact_velocity(time_);
-    summary.stress_errors = relative_errors(stress(), s, vol, z * v);
-    summary.velocity_errors = relative_errors(velocity(), v, vol, s / z);
+    const double z = problem_.exact_impedance;
+    const Field ex = exact_state(time_), s = physical_state();
+    const Eigen::MatrixXd es = ex.topRows(ncomp - dim), ev = ex.bottomRows(dim);
+    summary.stress_errors = relative_errors(s.topRows(ncomp - dim), es, vol, z * ev);
+    summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
   }
   summary.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
   if (writes) {
@@ -373,5 +444,8 @@ RunSummary Simulation::run(const RunOptions& options) {
   }
   return summary;
 }
+
+template class Simulation<ElasticBar>;
+template class Simulation<PlaneStrain>;
 
 }  // namespace dgmpm

@@ -1,13 +1,14 @@
 #pragma once
-// The explicit time loop of a scene: DGMPM (Euler or RK2) or the MPM baseline on the same grid,
-// particles and boundaries. Time steps land exactly on output times and on the end time.
+// The explicit time loop of a scene: DGMPM (Euler or RK2, DCU or CTU) or the MPM baseline on the
+// same grid, particles and boundaries. Time steps land exactly on output times and on the end
+// time. Simulation<Physics> is the loop of one physics; make_simulation is the one place where
+// a scene's dimension picks it.
 
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
 #include "solver/time_step_control.hpp"
 
-#include <dgmpm/discretisation.hpp>
-#include <dgmpm/time_integration.hpp>
+#include <dgmpm/stepper.hpp>
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -17,6 +18,9 @@
 
 namespace dgmpm {
 
+template <class Physics>
+class Mpm;
+
 struct ErrorNorms {
   double l1 = 0, l2 = 0, max = 0;  // relative, see relative_errors()
 };
@@ -25,6 +29,7 @@ struct RunSummary {
   long steps = 0;
   double final_time = 0, dt_min = 0, dt_max = 0, wall_seconds = 0;
   double energy_initial = 0, energy_final = 0;
+  double boundary_work = 0;  // work done on the body by boundary loads (traction, velocity)
   std::optional<ErrorNorms> stress_errors, velocity_errors;
   int layouts_analysed = 0;
   std::vector<std::string> warnings;
@@ -37,23 +42,42 @@ struct RunOptions {
   bool progress = false;                        // progress line on stderr
 };
 
-// Errors ||u_h - u||/||u|| with volume-weighted L1 and L2 norms and the max norm over
-// particles. When the exact field vanishes at that time, the norms of `fallback` normalise
-// instead (the run uses the other field times or over the impedance); when that vanishes too,
-// errors are absolute.
-ErrorNorms relative_errors(const Eigen::VectorXd& computed, const Eigen::VectorXd& exact,
-                           const Eigen::VectorXd& volume, const Eigen::VectorXd& fallback);
+// Errors ||u_h - u|| / ||u|| over particles, u_p a column (the Euclidean norm of its components
+// at each particle), with volume-weighted L1 and L2 norms and the max norm. When the exact field
+// vanishes at that time, the norms of `fallback` normalise instead (the run uses the other
+// field times or over the impedance); when that vanishes too, errors are absolute.
+ErrorNorms relative_errors(const Eigen::MatrixXd& computed, const Eigen::MatrixXd& exact,
+                           const Eigen::VectorXd& volume, const Eigen::MatrixXd& fallback);
 
-class Simulation {
+// What the command line needs of a run, whatever its physics.
+class SimulationBase {
  public:
+  virtual ~SimulationBase() = default;
+  virtual const scene::Scene& scene() const = 0;
+  virtual const std::vector<std::string>& warnings() const = 0;
+  virtual RunSummary run(const RunOptions& options = {}) = 0;
+  virtual int num_particles() const = 0;
+  virtual int num_cells() const = 0;
+};
+
+template <class Physics>
+class Simulation final : public SimulationBase {
+ public:
+  static constexpr int dim = Physics::dim;
+  static constexpr int ncomp = Physics::n_comp;
+  using ParticleSet = Particles<dim, ncomp>;
+  using Field = Eigen::Matrix<double, ncomp, Eigen::Dynamic>;
+
   explicit Simulation(const scene::Scene& scene);
-  ~Simulation();
+  ~Simulation() override;
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  const scene::Scene& scene() const { return scene_; }
-  const BarProblem& problem() const { return problem_; }
-  const Particles<1, ElasticBar::n_comp>& particles() const { return problem_.particles; }
+  const scene::Scene& scene() const override { return scene_; }
+  const Problem<Physics>& problem() const { return problem_; }
+  const ParticleSet& particles() const { return problem_.particles; }
+  int num_particles() const override { return problem_.particles.size(); }
+  int num_cells() const override { return problem_.grid.num_cells(); }
   double time() const { return time_; }
   long steps() const { return steps_; }
 
@@ -61,10 +85,12 @@ class Simulation {
   // stability analysis of the cells' layouts with "courant": "auto" (recomputed after moves).
   double stable_time_step() const { return dt_; }
   // DGMPM only (empty for MPM).
-  const std::optional<TimeStepControl>& time_step_control() const { return time_control_; }
+  const std::optional<TimeStepControl<Physics>>& time_step_control() const {
+    return time_control_;
+  }
   // Set up: a fixed Courant number above the admissible one of some cell's layout. Any time: the
   // first cell holding more than a full cell's mass (see warn_if_overfull_cell).
-  const std::vector<std::string>& warnings() const { return warnings_; }
+  const std::vector<std::string>& warnings() const override { return warnings_; }
   // One step of length dt; moves particles and rebuilds the operators when the scene asks.
   // Throws std::runtime_error naming the step, time, particle and cell on a non-finite state or
   // a particle leaving the grid.
@@ -72,40 +98,78 @@ class Simulation {
   // Steps to `t_end`, landing on it exactly.
   void advance_to(double t_end);
   // The whole scene: steps, outputs, summary.
-  RunSummary run(const RunOptions& options = {});
+  RunSummary run(const RunOptions& options = {}) override;
 
-  Eigen::VectorXd stress() const;
-  Eigen::VectorXd velocity() const;
-  // Kinetic and elastic energy of the particles (per unit cross-section).
+  // Physical state (sigma, v) of every particle: 1D (sigma, v); 2D (sigma_xx, sigma_yy,
+  // sigma_xy, v_x, v_y).
+  Field physical_state() const;
+  Eigen::MatrixXd stresses() const { return physical_state().topRows(ncomp - dim); }
+  Eigen::MatrixXd velocities() const { return physical_state().bottomRows(dim); }
+  Eigen::VectorXd stress() const
+    requires(dim == 1)
+  {
+    return physical_state().row(0).transpose();
+  }
+  Eigen::VectorXd velocity() const
+    requires(dim == 1)
+  {
+    return physical_state().row(1).transpose();
+  }
+  // Kinetic and elastic energy of the particles (per unit cross-section in 1D, per unit
+  // thickness in 2D).
   struct Energy {
     double kinetic = 0, elastic = 0;
     double total() const { return kinetic + elastic; }
   };
   Energy energy_parts() const;
   double energy() const { return energy_parts().total(); }
+  // Work done on the body by the boundary loads so far (DGMPM; trapezoidal in time).
+  double boundary_work() const { return work_; }
   // Requires an exact solution. Evaluated at the particles' initial positions: with moving
   // particles (small strain) fields are compared in the material coordinate.
-  Eigen::VectorXd exact_stress(double t) const;
-  Eigen::VectorXd exact_velocity(double t) const;
+  Field exact_state(double t) const;
+  Eigen::VectorXd exact_stress(double t) const
+    requires(dim == 1)
+  {
+    return exact_state(t).row(0).transpose();
+  }
+  Eigen::VectorXd exact_velocity(double t) const
+    requires(dim == 1)
+  {
+    return exact_state(t).row(1).transpose();
+  }
 
  private:
-  struct Stepper;
   // One step toward `target`, shortened to land on it; returns its length, 0 once there.
   double step_towards(double target);
   void check_finite() const;
   void warn_if_above_admissible();
   void warn_if_overfull_cell(long step, double t);
+  double load_power();
   void write_particles(const std::string& path) const;
 
   scene::Scene scene_;
-  BarProblem problem_;
-  std::unique_ptr<Stepper> stepper_;
-  Eigen::Matrix<double, 1, Eigen::Dynamic> reference_position_;  // initial positions
-  std::optional<TimeStepControl> time_control_;
+  Problem<Physics> problem_;
+  std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
+  std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
+  Eigen::Matrix<double, dim, Eigen::Dynamic> reference_position_;  // initial positions
+  std::optional<TimeStepControl<Physics>> time_control_;
   std::vector<std::string> warnings_;
-  double time_ = 0, dt_ = 0;
+  double time_ = 0, dt_ = 0, work_ = 0, power_ = 0;
+  bool loaded_ = false;  // some boundary does work (traction or velocity)
+  typename DGOperator<Physics>::NodalField nodal_;  // scratch of load_power
   long steps_ = 0;
   bool overfull_warned_ = false;
 };
+
+using BarSimulation = Simulation<ElasticBar>;
+using BarTimeStepControl = TimeStepControl<ElasticBar>;
+using PlaneStrainSimulation = Simulation<PlaneStrain>;
+
+// The run-time dispatch on the scene's dimension (and so its physics).
+std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene);
+
+// The stepper options a scene asks for (one definition for every caller).
+StepperOptions stepper_options(const scene::Scene& scene);
 
 }  // namespace dgmpm

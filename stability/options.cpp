@@ -6,9 +6,6 @@
 
 namespace dgmpm::stability {
 
-const char* to_string(TimeScheme s) {
-  return s == TimeScheme::euler ? "euler" : "rk2";
-}
 const char* to_string(Criterion c) {
   return c == Criterion::l2 ? "l2" : "monotone";
 }

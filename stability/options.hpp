@@ -1,16 +1,18 @@
 #pragma once
 // The choices of an analysis: time scheme, criterion, model.
 
+#include <dgmpm/time_integration.hpp>
+
 #include <string>
 
 namespace dgmpm::stability {
 
-enum class TimeScheme { euler, rk2 };
+using dgmpm::TimeScheme;  // lib's: the analysis steps with lib's integrators
+using dgmpm::to_string;
 enum class Criterion { l2, monotone };
 // advection: u_t + a u_x = 0, a > 0 (waves to +x); elastic: the 1D bar (waves both ways).
 enum class Model { advection, elastic };
 
-const char* to_string(TimeScheme);
 const char* to_string(Criterion);
 const char* to_string(Model);
 

@@ -6,13 +6,11 @@
 #include "stability/layout.hpp"
 #include "stability/options.hpp"
 
-#include <dgmpm/dg_operator.hpp>
-#include <dgmpm/discretisation.hpp>
 #include <dgmpm/grid.hpp>
 #include <dgmpm/particles.hpp>
 #include <dgmpm/physics/advection.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
-#include <dgmpm/time_integration.hpp>
+#include <dgmpm/stepper.hpp>
 
 #include <algorithm>
 #include <optional>
@@ -52,8 +50,11 @@ class PeriodicCells {
       }
     particles_.state.setZero();
     materials_.push_back(unit_material<Physics>());
-    disc_.build(grid_, particles_, materials_);
-    op_.emplace(grid_, disc_, boundaries_);
+    for (TimeScheme scheme : {TimeScheme::euler, TimeScheme::rk2}) {
+      auto& s = steppers_[static_cast<int>(scheme)];
+      s.emplace(grid_, boundaries_, StepperOptions{scheme});
+      s->rebuild(particles_, materials_);
+    }
   }
   PeriodicCells(const PeriodicCells&) = delete;  // the operator refers to the members
   PeriodicCells& operator=(const PeriodicCells&) = delete;
@@ -62,10 +63,11 @@ class PeriodicCells {
   // Smallest share of a cell's mass that one of its nodes holds, nodes that lib folds as massless
   // aside (every cell is the same: cell 0 speaks for all).
   double smallest_node_share() const {
-    const double cell = disc_.cell_mass(0);
+    const auto& disc = steppers_[0]->discretisation();
+    const double cell = disc.cell_mass(0);
     double share = 1.0;
     for (int a = 0; a < Discretisation<Physics>::npc; ++a) {
-      const double s = disc_.node_mass(a) / cell;
+      const double s = disc.node_mass(a) / cell;
       if (s > Discretisation<Physics>::massless_share) share = std::min(share, s);
     }
     return share;
@@ -77,10 +79,7 @@ class PeriodicCells {
 
   // One step of lib's integrator at Courant number `courant` (dt = courant here).
   void step(TimeScheme scheme, double courant) {
-    if (scheme == TimeScheme::euler)
-      euler_.step(*op_, particles_.state, particles_.mass, 0.0, courant);
-    else
-      rk2_.step(*op_, particles_.state, particles_.mass, 0.0, courant);
+    steppers_[static_cast<int>(scheme)]->step(particles_.state, particles_.mass, 0.0, courant);
   }
 
  private:
@@ -88,11 +87,8 @@ class PeriodicCells {
   Grid<1> grid_;
   Particles<1, ncomp> particles_;
   std::vector<typename Physics::Material> materials_;
-  Discretisation<Physics> disc_;
   Boundaries<1> boundaries_{};  // unused: every axis is periodic
-  std::optional<DGOperator<Physics>> op_;
-  ForwardEuler<Physics> euler_;
-  HeunRK2<Physics> rk2_;
+  std::optional<Stepper<Physics>> steppers_[2];  // [TimeScheme]
 };
 
 }  // namespace dgmpm::stability

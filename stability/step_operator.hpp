@@ -4,7 +4,7 @@
 
 #include "stability/arpack_spectrum.hpp"
 
-#include <dgmpm/dg_operator.hpp>
+#include <dgmpm/stepper.hpp>
 
 #include <Eigen/Core>
 
@@ -12,16 +12,15 @@ namespace dgmpm::stability {
 
 // x and y hold Physics::n_comp values per particle, particle after particle (the storage order
 // of Particles::state). The step is linear only with homogeneous boundary data (zero prescribed
-// traction or velocity): give the operator such boundaries. op, integrator and mass are
-// referenced, not copied, and must outlive the returned operator.
-template <class Physics, class Integrator>
-LinearOperator step_operator(const DGOperator<Physics>& op, Integrator& integrator,
-                             const Eigen::VectorXd& mass, double dt) {
+// traction or velocity): give the stepper such boundaries. stepper and mass are referenced, not
+// copied, and must outlive the returned operator.
+template <class Physics>
+LinearOperator step_operator(Stepper<Physics>& stepper, const Eigen::VectorXd& mass, double dt) {
   using Field = typename DGOperator<Physics>::ParticleField;
-  return [&op, &integrator, &mass, dt, state = Field()](const double* x, double* y) mutable {
+  return [&stepper, &mass, dt, state = Field()](const double* x, double* y) mutable {
     const auto n = mass.size();
     state = Eigen::Map<const Field>(x, Physics::n_comp, n);
-    integrator.step(op, state, mass, 0.0, dt);
+    stepper.step(state, mass, 0.0, dt);
     Eigen::Map<Field>(y, Physics::n_comp, n) = state;
   };
 }

@@ -42,7 +42,7 @@ double max_abs_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 // Steps at Courant 1 to several times (including after reflections at the free ends) and
 // compares every particle with the exact solution, relative to the wave amplitude.
 void check_exact_at_courant_one(const json& doc) {
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   const double dt = dx / c;
   const double e0 = sim.energy();
   // Fronts reach the free ends after 75 steps, the bars separate at 150, reflect again at 225.
@@ -73,7 +73,7 @@ BOOST_AUTO_TEST_CASE(two_bar_impact_two_particles_per_cell_rk2_is_exact_at_coura
 
 BOOST_AUTO_TEST_CASE(the_exact_solution_is_nontrivial_where_it_is_checked) {
   // Guards the test above: the impact stress is -Z v0 between the fronts, and v0 after release.
-  Simulation sim(scene::parse_scene(two_bar("dgmpm", "euler", 1.0)));
+  BarSimulation sim(scene::parse_scene(two_bar("dgmpm", "euler", 1.0)));
   sim.advance_to(40 * dx / c);
   BOOST_TEST(sim.exact_stress(sim.time()).minCoeff() == -Z * v0,
              boost::test_tools::tolerance(1e-12));
@@ -92,7 +92,7 @@ BOOST_AUTO_TEST_CASE(rigid_translation_keeps_its_velocity) {
                    {"velocity", {5.0}}}}},
                 {"time", {{"end", 1.3}, {"integrator", integrator}, {"courant", 0.9}}},
                 {"particles_move", true}};
-    Simulation sim(scene::parse_scene(doc));
+    BarSimulation sim(scene::parse_scene(doc));
     const double x0 = sim.particles().position(0, 0);
     sim.advance_to(1.3);
     BOOST_TEST_CONTEXT(integrator) {
@@ -107,7 +107,7 @@ BOOST_AUTO_TEST_CASE(bimaterial_bar_plateaus_match_the_impedance_formulas) {
   const double v = 10.0, z1 = Z, z2 = Z2;
   const json doc =
       bimaterial_bar(150, v, {{"end", 1.0}, {"integrator", "euler"}, {"courant", 1.0}});
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   const double t = 1.5 / std::max(c, c2);  // fronts about 1.5 m from the interface
   sim.advance_to(t);
   // Independent check: the star state of the impact problem.
@@ -129,11 +129,11 @@ BOOST_AUTO_TEST_CASE(bimaterial_bar_plateaus_match_the_impedance_formulas) {
 // per cell is 1/sqrt(2)); USF and MUSL stay bounded at C = 1 (measured; see tests/solver_mpm.cpp).
 BOOST_AUTO_TEST_CASE(mpm_is_less_accurate_than_dgmpm_and_usl_is_unstable_at_courant_one) {
   const double t = 100 * dx / c;  // before the bars separate: stress is nonzero
-  const auto stress_error = [&](Simulation& sim) {
+  const auto stress_error = [&](BarSimulation& sim) {
     return (sim.stress() - sim.exact_stress(sim.time())).norm() /
            sim.exact_stress(sim.time()).norm();
   };
-  Simulation dg(scene::parse_scene(two_bar("dgmpm", "euler", 1.0)));
+  BarSimulation dg(scene::parse_scene(two_bar("dgmpm", "euler", 1.0)));
   dg.advance_to(t);
   const double dg_error = stress_error(dg);
   BOOST_TEST(dg_error < 1e-12);
@@ -142,7 +142,7 @@ BOOST_AUTO_TEST_CASE(mpm_is_less_accurate_than_dgmpm_and_usl_is_unstable_at_cour
       BOOST_TEST_CONTEXT(method << " " << update) {
         json doc = two_bar(method, "euler", 1.0);
         doc["update"] = update;
-        Simulation mpm(scene::parse_scene(doc));
+        BarSimulation mpm(scene::parse_scene(doc));
         const double e0 = mpm.energy();
         if (std::string(method) == "mpm-usl") {
           mpm.advance_to(38 * dx / c);

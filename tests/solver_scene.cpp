@@ -79,6 +79,13 @@ std::string load_refusal(const std::string& path) {
 
 }  // namespace
 
+// The first local coordinate of each particle of a body's cell layout.
+std::vector<double> first_coordinates(const BodySpec& b) {
+  std::vector<double> x;
+  for (const auto& xi : b.layout) x.push_back(xi[0]);
+  return x;
+}
+
 BOOST_AUTO_TEST_CASE(full_scene_parses) {
   json doc = base();
   doc["method"] = "mpm-musl";
@@ -109,7 +116,7 @@ BOOST_AUTO_TEST_CASE(full_scene_parses) {
   BOOST_TEST(s.grid.origin == std::vector<double>{0.0});
   BOOST_TEST(s.grid.cell_size == std::vector<double>{0.04});
   BOOST_TEST(s.grid.cells == std::vector<int>{150});
-  BOOST_TEST(!s.grid.periodic);
+  BOOST_TEST(!s.grid.periodic[0]);
 
   // Materials in a deterministic (alphabetical) order; bodies refer to them by index.
   BOOST_REQUIRE(s.materials.size() == 2u);
@@ -126,20 +133,20 @@ BOOST_AUTO_TEST_CASE(full_scene_parses) {
   BOOST_TEST(s.materials[static_cast<std::size_t>(b0.material)].name == "steel");
   BOOST_TEST(b0.box_min == std::vector<double>{0.0});
   BOOST_TEST(b0.box_max == std::vector<double>{3.0});
-  BOOST_TEST(b0.positions_in_cell == (std::vector<double>{0.125, 0.375, 0.625, 0.875}));
+  BOOST_TEST(first_coordinates(b0) == (std::vector<double>{0.125, 0.375, 0.625, 0.875}));
   BOOST_TEST(b0.masses_in_cell == (std::vector<double>{1, 1, 1, 1}));
   BOOST_TEST(b0.velocity == std::vector<double>{50.6});
   BOOST_TEST(b0.stress == std::vector<double>{-1e6});
   const BodySpec& b1 = s.bodies[1];
   BOOST_TEST(s.materials[static_cast<std::size_t>(b1.material)].name == "alu");
-  BOOST_TEST(b1.positions_in_cell == (std::vector<double>{0.25, 0.75}));
+  BOOST_TEST(first_coordinates(b1) == (std::vector<double>{0.25, 0.75}));
   BOOST_TEST(b1.masses_in_cell == (std::vector<double>{1.0, 3.0}));
 
-  BOOST_TEST((s.boundaries[0][0].kind == dgmpm::BoundaryKind::fixed));
-  BOOST_TEST(s.boundaries[0][0].times.empty());
-  BOOST_TEST((s.boundaries[0][1].kind == dgmpm::BoundaryKind::traction));
-  BOOST_TEST(s.boundaries[0][1].times == (std::vector<double>{0.0, 1e-5, 1.0}));
-  BOOST_TEST(s.boundaries[0][1].values == (std::vector<double>{0.0, -1e8, -1e8}));
+  BOOST_TEST((s.boundaries[0][0][0].kind == dgmpm::BoundaryKind::fixed));
+  BOOST_TEST(s.boundaries[0][0][0].times.empty());
+  BOOST_TEST((s.boundaries[0][1][0].kind == dgmpm::BoundaryKind::traction));
+  BOOST_TEST(s.boundaries[0][1][0].times == (std::vector<double>{0.0, 1e-5, 1.0}));
+  BOOST_TEST(s.boundaries[0][1][0].values == (std::vector<double>{0.0, -1e8, -1e8}));
 
   BOOST_TEST(s.time.end == 6e-4);
   BOOST_TEST((s.time.integrator == Integrator::rk2));
@@ -165,19 +172,19 @@ BOOST_AUTO_TEST_CASE(defaults) {
   BOOST_TEST(s.source == "scene");
   BOOST_TEST((s.method == Method::dgmpm));
   BOOST_TEST((s.update == MpmUpdate::flip));
-  BOOST_TEST(!s.grid.periodic);
+  BOOST_TEST(!s.grid.periodic[0]);
   BOOST_TEST(s.materials[0].model == "linear_elastic");
   BOOST_TEST(s.materials[0].poisson == 0.0);
   const BodySpec& b = s.bodies[0];
-  BOOST_REQUIRE(b.positions_in_cell.size() == 3u);
-  for (std::size_t k = 0; k < 3; ++k) BOOST_TEST(b.positions_in_cell[k] == (k + 0.5) / 3);
+  BOOST_REQUIRE(b.layout.size() == 3u);
+  for (std::size_t k = 0; k < 3; ++k) BOOST_TEST(b.layout[k][0] == (k + 0.5) / 3);
   BOOST_TEST(b.masses_in_cell == (std::vector<double>{1, 1, 1}));
   BOOST_TEST(b.velocity == std::vector<double>{0.0});
   BOOST_TEST(b.stress == std::vector<double>{0.0});
-  BOOST_TEST((s.boundaries[0][0].kind == dgmpm::BoundaryKind::free));
-  BOOST_TEST((s.boundaries[0][1].kind == dgmpm::BoundaryKind::velocity));
-  BOOST_TEST(s.boundaries[0][1].times == std::vector<double>{0.0});
-  BOOST_TEST(s.boundaries[0][1].values == std::vector<double>{2.5});
+  BOOST_TEST(s.boundaries[0][0].empty());  // free
+  BOOST_TEST((s.boundaries[0][1][0].kind == dgmpm::BoundaryKind::velocity));
+  BOOST_TEST(s.boundaries[0][1][0].times == std::vector<double>{0.0});
+  BOOST_TEST(s.boundaries[0][1][0].values == std::vector<double>{2.5});
   BOOST_TEST((s.time.integrator == Integrator::euler));
   BOOST_TEST(!s.time.courant_auto);
   BOOST_TEST(s.time.courant == 1.0);
@@ -195,8 +202,8 @@ BOOST_AUTO_TEST_CASE(defaults) {
   for (std::size_t n = 0; n < seeds.size(); ++n) {
     const int k = static_cast<int>(n / 3), j = static_cast<int>(n % 3);
     BOOST_TEST(seeds[n].cell[0] == k);
-    BOOST_TEST(seeds[n].local[0] == j);
-    BOOST_TEST(seeds[n].x[0] == 1.0 + (k + b.positions_in_cell[static_cast<std::size_t>(j)]) * 0.5);
+    BOOST_TEST(seeds[n].local == j);
+    BOOST_TEST(seeds[n].x[0] == 1.0 + (k + b.layout[static_cast<std::size_t>(j)][0]) * 0.5);
   }
 }
 
@@ -348,13 +355,13 @@ BOOST_AUTO_TEST_CASE(refuses_wrong_types) {
 
 BOOST_AUTO_TEST_CASE(refuses_other_dimensions) {
   json doc = base();
-  doc["dimension"] = 2;
-  check_refused(doc, {"dimension: value 2", "2D is not implemented yet"});
+  doc["dimension"] = 2;  // accepted, but the 1D grid does not fit it
+  check_refused(doc, {"grid.origin: value [0.0] has 1 entries", "dimension 2"});
   doc["dimension"] = 3;
   check_refused(doc, {"dimension: value 3", "3D is not implemented yet"});
   for (const json& d : {json(0), json(4), json(1.5), json(-1)}) {
     doc["dimension"] = d;
-    check_refused(doc, {"dimension: value " + d.dump(), "allowed: 1"});
+    check_refused(doc, {"dimension: value " + d.dump(), "allowed: 1 or 2"});
   }
 }
 
@@ -576,7 +583,7 @@ BOOST_AUTO_TEST_CASE(refuses_bad_boundaries) {
   doc = base();
   doc["grid"]["periodic"] = true;
   check_refused(doc,
-                {"boundaries.xmax: value {\"type\":\"free\"} is not allowed on a periodic grid",
+                {"boundaries.xmax: value {\"type\":\"free\"} is not allowed on a periodic axis",
                  "grid.periodic"});
   doc.erase("boundaries");
   BOOST_TEST(refusal(doc) == "");
@@ -645,9 +652,9 @@ BOOST_AUTO_TEST_CASE(load_refuses_unreadable_and_invalid_files) {
   path = write_temp("dgmpm_scene_valid.json", base().dump(2));
   BOOST_CHECK_NO_THROW(load_scene(path));
   BOOST_TEST(load_scene(path).source == path);
-  path = write_temp("dgmpm_scene_refused.json", json::parse(R"({"dimension": 2})").dump());
+  path = write_temp("dgmpm_scene_refused.json", json::parse(R"({"dimension": 3})").dump());
   message = load_refusal(path);
-  BOOST_TEST(message.find(path + ": dimension: value 2") == 0u, message);
+  BOOST_TEST(message.find(path + ": dimension: value 3") == 0u, message);
 }
 
 BOOST_AUTO_TEST_CASE(every_shipped_scene_parses) {

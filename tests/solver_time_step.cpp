@@ -49,7 +49,7 @@ struct Extremes {
 };
 
 // Steps to the end, recording the stress range and the largest energy after every step.
-Extremes run_recording(Simulation& sim, double t_end) {
+Extremes run_recording(BarSimulation& sim, double t_end) {
   Extremes r;
   r.max_energy = sim.energy();
   try {
@@ -72,7 +72,7 @@ Extremes run_recording(Simulation& sim, double t_end) {
 
 BOOST_AUTO_TEST_CASE(moving_two_bar_impact_degrades_at_courant_one) {
   const double t_end = 150 * dx / c, e0 = 0.5 * 6.0 * rho * v0 * v0;
-  Simulation sim(scene::parse_scene(moving_two_bar(1.0)));
+  BarSimulation sim(scene::parse_scene(moving_two_bar(1.0)));
   const Extremes r = run_recording(sim, t_end);
   // Cells that come to hold two particles are unstable at C = 1 (admissible 0.686).
   BOOST_TEST((r.failed || r.max_energy > 1.5 * e0 || r.min_stress < -1.5 * Z * v0));
@@ -82,7 +82,7 @@ BOOST_AUTO_TEST_CASE(moving_two_bar_impact_with_auto_steps_stays_bounded) {
   const double t_end = 150 * dx / c, e0 = 0.5 * 6.0 * rho * v0 * v0;
   for (const char* criterion : {"l2", "monotone"}) {
     BOOST_TEST_CONTEXT(criterion) {
-      Simulation sim(scene::parse_scene(moving_two_bar("auto", criterion)));
+      BarSimulation sim(scene::parse_scene(moving_two_bar("auto", criterion)));
       const Extremes r = run_recording(sim, t_end);
       BOOST_TEST(!r.failed);
       // The Godunov fluxes dissipate; the admissible Courant numbers are found to 1e-9.
@@ -108,7 +108,7 @@ struct RangeHistory {
 RangeHistory monotone_range_history(double safety) {
   json doc = moving_two_bar("auto", "monotone");
   doc["time"]["safety"] = safety;
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   const auto& grid = sim.problem().grid;
   const auto& particles = sim.particles();
   const double t_end = 150 * dx / c, tol = 1e-9 * Z * v0;
@@ -177,7 +177,7 @@ BOOST_AUTO_TEST_CASE(monotone_auto_keeps_the_exact_range_until_a_cell_is_overful
 BOOST_AUTO_TEST_CASE(fill_correction_makes_monotone_auto_keep_the_range) {
   json doc = moving_two_bar("auto", "monotone");
   doc["fill_correction"] = true;
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   const double t_end = 150 * dx / c, tol = 1e-9 * Z * v0, e0 = sim.energy();
   double worst_w = 0, min_stress = 0, max_stress_before_140 = 0, max_stress = 0, max_energy = e0;
   long steps = 0;
@@ -205,7 +205,7 @@ BOOST_AUTO_TEST_CASE(fill_correction_makes_monotone_auto_keep_the_range) {
   // And the L2 criterion stays bounded with it.
   doc = moving_two_bar("auto", "l2");
   doc["fill_correction"] = true;
-  Simulation l2(scene::parse_scene(doc));
+  BarSimulation l2(scene::parse_scene(doc));
   const Extremes r = run_recording(l2, t_end);
   BOOST_TEST(!r.failed);
   BOOST_TEST(r.max_energy <= e0 * (1 + 1e-8));
@@ -220,7 +220,7 @@ BOOST_AUTO_TEST_CASE(mixed_layouts_take_the_two_particle_limit) {
        {body(0, 2, 1.0, {{"particles_per_cell", 2}}),
         body(2, 4, -1.0, {{"particles_per_cell", 1}})}},
       {"time", {{"end", 1000 * 0.686 * dx / c}, {"courant", "auto"}}}};
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   // Published: 2 regular particles per cell, Euler, L2: 0.686 +- 0.001.
   BOOST_TEST(std::abs(sim.stable_time_step() * c / dx - 0.686) <= 1e-3);
   BOOST_TEST(sim.time_step_control()->layouts_analysed() == 2);
@@ -233,7 +233,7 @@ BOOST_AUTO_TEST_CASE(mixed_layouts_take_the_two_particle_limit) {
 
 BOOST_AUTO_TEST_CASE(bimaterial_dt_is_set_by_the_faster_material) {
   // The bars meet on a face; aluminium has the faster waves (c2 > c).
-  Simulation sim(
+  BarSimulation sim(
       scene::parse_scene(bimaterial_bar(100, 10.0, {{"end", 1e-4}, {"courant", "auto"}})));
   BOOST_TEST(sim.stable_time_step() == dx / c2, boost::test_tools::tolerance(1e-9));
 }
@@ -244,12 +244,12 @@ BOOST_AUTO_TEST_CASE(a_fixed_courant_above_the_admissible_one_warns_once) {
               {"materials", steel()},
               {"bodies", {body(0, 2, 1.0, {{"particles_per_cell", 2}})}},
               {"time", {{"end", 1e-5}, {"courant", 0.9}}}};
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   BOOST_TEST_REQUIRE(sim.warnings().size() == 1u);
   BOOST_TEST(sim.warnings()[0].find("0.686") != std::string::npos);
   BOOST_TEST(sim.stable_time_step() == 0.9 * dx / c, boost::test_tools::tolerance(1e-12));
   doc["time"]["courant"] = 0.5;
-  BOOST_TEST(Simulation(scene::parse_scene(doc)).warnings().empty());
+  BOOST_TEST(BarSimulation(scene::parse_scene(doc)).warnings().empty());
 }
 
 BOOST_AUTO_TEST_CASE(extreme_layouts_keep_dt_positive_and_the_run_finite) {
@@ -271,7 +271,7 @@ BOOST_AUTO_TEST_CASE(extreme_layouts_keep_dt_positive_and_the_run_finite) {
                         {"integrator", integrator},
                         {"courant", "auto"},
                         {"criterion", criterion}}}};
-          Simulation sim(scene::parse_scene(doc));
+          BarSimulation sim(scene::parse_scene(doc));
           const double dt = sim.stable_time_step();
           BOOST_TEST((std::isfinite(dt) && dt > 0));
           for (int k = 0; k < 200; ++k) sim.step(dt);  // throws on a non-finite state
@@ -291,7 +291,7 @@ BOOST_AUTO_TEST_CASE(a_cell_emptied_by_motion_keeps_dt_finite) {
                 body(1.2, 1.6, 200.0, {{"particles_per_cell", 1}})}},
               {"time", {{"end", 1.0}, {"courant", "auto"}}},
               {"particles_move", true}};
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   for (int k = 0; k < 400; ++k) {
     const double dt = sim.stable_time_step();
     BOOST_TEST_REQUIRE((std::isfinite(dt) && dt > 0));
@@ -316,7 +316,7 @@ json bar_with_half_full_ends() {
 
 BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
   const json doc = bar_with_half_full_ends();
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   const double used = sim.stable_time_step() * c / dx;
   const double full_layout =
       stability::admissible_courant({{0.0625, 0.1875, 0.3125, 0.4375}, {}},
@@ -345,7 +345,7 @@ BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
   // Without the rule (the full layout's C*, above the scene limit found above) it blows up.
   json without = doc;
   without["time"]["courant"] = full_layout;
-  Simulation unstable(scene::parse_scene(without));
+  BarSimulation unstable(scene::parse_scene(without));
   const Extremes u = run_recording(unstable, 2000 * full_layout * dx / c);
   BOOST_TEST((u.failed || u.max_energy > 1e6 * e0));
 }
@@ -355,7 +355,7 @@ BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
 BOOST_AUTO_TEST_CASE(fill_correction_keeps_a_bar_with_half_full_ends_rigid) {
   json doc = bar_with_half_full_ends();
   doc["fill_correction"] = true;
-  Simulation sim(scene::parse_scene(doc));
+  BarSimulation sim(scene::parse_scene(doc));
   const double e0 = sim.energy();
   const Extremes r = run_recording(sim, 2000 * sim.stable_time_step());
   BOOST_TEST(!r.failed);

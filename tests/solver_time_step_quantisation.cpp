@@ -1,7 +1,7 @@
 // Automatic time step (issue 4): the error that the cache's rounding of positions brings to C*.
 //
 // TimeStepControl analyses each cell's layout with its local positions rounded by
-// TimeStepControl::quantise_position: to q = 1/4096 (moving particles), except near a node, where
+// LayoutQuantisation::quantise_position: to q = 1/4096 (moving particles), except near a node, where
 // the distance d to the node keeps 8 significant bits, so a particle moves by
 // delta <= min(q / 2, d / 512); below d = q / 2 it is put on the node. This file measures
 // e = |C*(rounded layout) - C*(exact layout)| / C*(exact layout) against delta / g, g being the
@@ -40,19 +40,19 @@ using stability::TimeScheme;
 
 namespace {
 
-constexpr double q = TimeStepControl::moving_position_quantum;
+constexpr double q = LayoutQuantisation::moving_position_quantum;
 
 double courant(const CellLayout& layout, TimeScheme scheme, Criterion criterion) {
   return stability::admissible_courant(layout, scheme, criterion, stability::Model::elastic)
       .courant;
 }
 
-// The layout the cache analyses (as TimeStepControl::fill_key builds it): positions through
-// TimeStepControl::quantise_position, sorted, masses relative to the first particle's.
+// The layout the cache analyses (as LayoutQuantisation::fill_key builds it): positions through
+// LayoutQuantisation::quantise_position, sorted, masses relative to the first particle's.
 CellLayout quantised(const CellLayout& layout) {
   std::vector<std::pair<double, double>> entries;
   for (int k = 0; k < layout.size(); ++k)
-    entries.emplace_back(TimeStepControl::quantise_position(layout.positions[k], q),
+    entries.emplace_back(LayoutQuantisation::quantise_position(layout.positions[k], q),
                          layout.weight(k));
   std::sort(entries.begin(), entries.end());
   CellLayout r;
@@ -110,7 +110,7 @@ class LayoutGenerator {
 double rounding_shift(const CellLayout& layout) {
   double shift = 0.0;
   for (double x : layout.positions)
-    shift = std::max(shift, std::abs(TimeStepControl::quantise_position(x, q) - x));
+    shift = std::max(shift, std::abs(LayoutQuantisation::quantise_position(x, q) - x));
   return shift;
 }
 
@@ -177,8 +177,8 @@ BOOST_AUTO_TEST_CASE(rounding_moves_a_particle_by_at_most_its_bound) {
     // Log-uniform distances to a node from 1e-15 to 1/2.
     const double d = std::exp(std::log(1e-15) + u(rng) * (std::log(0.5) - std::log(1e-15)));
     const double x = u(rng) < 0.5 ? d : 1.0 - d;
-    for (double quantum : {q, TimeStepControl::fixed_position_quantum}) {
-      const double r = TimeStepControl::quantise_position(x, quantum);
+    for (double quantum : {q, LayoutQuantisation::fixed_position_quantum}) {
+      const double r = LayoutQuantisation::quantise_position(x, quantum);
       const double dist = std::min(x, 1.0 - x);
       if (dist < 0.5 * quantum) {
         BOOST_TEST(r == (x < 0.5 ? 0.0 : 1.0));
@@ -188,10 +188,10 @@ BOOST_AUTO_TEST_CASE(rounding_moves_a_particle_by_at_most_its_bound) {
       BOOST_TEST((r > 0.0 && r < 1.0));
     }
   }
-  BOOST_TEST(TimeStepControl::quantise_position(0.0, q) == 0.0);
-  BOOST_TEST(TimeStepControl::quantise_position(1.0, q) == 1.0);
+  BOOST_TEST(LayoutQuantisation::quantise_position(0.0, q) == 0.0);
+  BOOST_TEST(LayoutQuantisation::quantise_position(1.0, q) == 1.0);
   // Away from the nodes the cache's quantum rules: 1000 + 1/3 quanta round to 1000 quanta.
-  BOOST_TEST(TimeStepControl::quantise_position((1000 + 1.0 / 3) * q, q) == 1000 * q);
+  BOOST_TEST(LayoutQuantisation::quantise_position((1000 + 1.0 / 3) * q, q) == 1000 * q);
 }
 
 // Bounds: about twice the worst seen in the measurements described at the top of the file.

@@ -1,11 +1,20 @@
 #pragma once
-// The DGMPM operators on one particle configuration (method.md 2-3):
+// The DGMPM operators on one particle configuration (docs/method.md, "Discretisation"):
 //   project      particles -> nodes, mass weighted: m_i q_i = sum_p S_ip m_p q_p
-//   residual     r_i = sum_l K^l_ij F^s_l(q_j) + Fhat_i (pseudo-stiffness + Godunov face fluxes)
+//   residual     r_i = sum_l K^l_ij F^s_l(q_j) + Fhat_i (pseudo-stiffness + Godunov edge fluxes)
 //   update       q_i += dt r_i / m_i
 //   interpolate  nodes -> particles: q_p = sum_i S_ip q_i
 // Time integrators (time_integration.hpp) compose these; the solver and the stability analysis
 // both step through them.
+//
+// Edge fluxes: one Riemann problem per cell edge (face in 3D) between the averages of the nodal
+// states that meet there; the flux is constant along the edge and each face node of each side
+// receives an equal share of it. DCU uses it as it is. CTU adds the transverse corrections of
+// corner transport upwind: every fluctuation entering a cell is split into waves along the other
+// axes, which correct the star states of that cell's transverse edges (times dt / (2 h)). At a
+// boundary edge (grid side or void neighbour) the solution beyond continues as the mirror image
+// of the cell under the boundary's reflection, so that edge also receives the reflected
+// fluctuation's part coming back in.
 
 #include "boundary.hpp"
 #include "discretisation.hpp"
@@ -13,39 +22,51 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace dgmpm {
+
+// Donor-cell upwind (normal Riemann problems only) or corner transport upwind.
+enum class FluxScheme { dcu, ctu };
+
+inline const char* to_string(FluxScheme f) { return f == FluxScheme::ctu ? "ctu" : "dcu"; }
 
 template <class Physics>
 class DGOperator {
  public:
   static constexpr int dim = Physics::dim;
   static constexpr int npc = 1 << dim;
+  static constexpr int face_nodes = npc / 2;
   static constexpr int ncomp = Physics::n_comp;
   using State = typename Physics::State;
+  using Material = typename Physics::Material;
   using NodalField = Eigen::Matrix<double, ncomp, Eigen::Dynamic>;
   using ParticleField = Eigen::Matrix<double, ncomp, Eigen::Dynamic>;
   using Disc = Discretisation<Physics>;
+  using Vec = Eigen::Matrix<double, dim, 1>;
 
-  DGOperator(const Grid<dim>& grid, const Disc& disc, const Boundaries<dim>& boundaries)
-      : grid_(grid), disc_(disc), bc_(boundaries) {
+  DGOperator(const Grid<dim>& grid, const Disc& disc, const Boundaries<dim>& boundaries,
+             FluxScheme flux = FluxScheme::dcu)
+      : grid_(grid), disc_(disc), scheme_(dim > 1 ? flux : FluxScheme::dcu) {
     for (int l = 0; l < dim; ++l) {
-      for (int side = 0; side < 2; ++side) {
-        neighbour_[l][side].resize(grid.num_cells());
-        for (int c = 0; c < grid.num_cells(); ++c)
-          neighbour_[l][side][c] = grid.neighbour(c, l, side);
-      }
       face_weight_[l] = 1.0;
       for (int k = 0; k < dim; ++k)
         if (k != l) face_weight_[l] *= grid.cell_size[k];
-      face_weight_[l] /= npc / 2;  // lumped face integral: an equal share per face node
+      face_weight_[l] /= face_nodes;  // lumped edge integral: an equal share per face node
+      tabulate_faces(l, boundaries);
+      if (scheme_ == FluxScheme::ctu) {
+        star_[l].resize(ncomp, num_faces(l));
+        correction_[l].resize(ncomp, num_faces(l));
+      }
     }
   }
 
   const Grid<dim>& grid() const { return grid_; }
   const Disc& discretisation() const { return disc_; }
+  FluxScheme flux_scheme() const { return scheme_; }
   int num_nodes() const { return grid_.num_nodes(); }
+  int num_faces(int axis) const { return static_cast<int>(face_cells_[axis].size()); }
 
   void project(const ParticleField& qp, const Eigen::VectorXd& mass, NodalField& qn) const {
     qn.setZero(ncomp, num_nodes());
@@ -61,7 +82,8 @@ class DGOperator {
     }
   }
 
-  void residual(const NodalField& qn, double t, NodalField& r) const {
+  // dt is read by CTU only (its transverse corrections scale with dt / h).
+  void residual(const NodalField& qn, double t, double dt, NodalField& r) const {
     r.setZero(ncomp, num_nodes());
     Eigen::Matrix<double, ncomp, npc> flux;
     for (int c = 0; c < disc_.num_cells(); ++c) {
@@ -74,7 +96,15 @@ class DGOperator {
         rc.noalias() += flux * disc_.stiffness(c, l).transpose();
       }
     }
-    for (int l = 0; l < dim; ++l) face_fluxes(l, qn, t, r);
+    if (scheme_ == FluxScheme::ctu) {
+      if constexpr (dim > 1) ctu_fluxes(qn, t, dt, r);
+    } else {
+      for (int l = 0; l < dim; ++l)
+        for (int f = 0; f < num_faces(l); ++f) {
+          State star;
+          if (face_star(l, f, qn, t, star)) distribute(l, f, star, r);
+        }
+    }
   }
 
   // q += dt M^-1 r. A massless node's residual goes to the node standing in for it (r is
@@ -104,7 +134,44 @@ class DGOperator {
     }
   }
 
+  // Power delivered to the particles by the prescribed boundary loads at time t: the sum over
+  // loaded boundary edges of (star traction . star velocity) times the edge length, for the
+  // nodal state qn. Used for the work done by the loads (energy balance).
+  double boundary_power(const NodalField& qn, double t) const {
+    double power = 0.0;
+    for (int l = 0; l < dim; ++l)
+      for (int f = 0; f < num_faces(l); ++f) {
+        const int b = face_boundary_[l][f];
+        if (b < 0) continue;
+        const FaceCondition& fc = conditions_[b];
+        if (fc.kind != BoundaryKind::traction && fc.kind != BoundaryKind::velocity) continue;
+        State star;
+        if (!face_star(l, f, qn, t, star)) continue;
+        const int c = face_cells_[l][f].first >= 0 ? face_cells_[l][f].first
+                                                   : face_cells_[l][f].second;
+        const double sign = face_cells_[l][f].first >= 0 ? 1.0 : -1.0;  // outward normal
+        power += sign * edge_length(l) *
+                 traction_power(Physics::flux(l, star, disc_.cell_material(c)), star);
+      }
+    return power;
+  }
+
  private:
+  struct FaceCondition {
+    BoundaryKind kind = BoundaryKind::free;
+    int begin = 0, end = 0;  // parts_[begin, end): (time table, covered fraction)
+  };
+  using Table = TimeTable<dim>;
+
+  double edge_length(int l) const { return face_weight_[l] * face_nodes; }
+
+  // -F_n's momentum rows are sigma* e_l; times v* (the state's last dim components).
+  static double traction_power(const State& f, const State& star) {
+    double p = 0;
+    for (int k = 0; k < dim; ++k) p += -f[ncomp - dim + k] * star[ncomp - dim + k];
+    return p;
+  }
+
   void copy_massless(int c, NodalField& q) const {
     for (int a = 0; a < npc; ++a) {
       const int i = c * npc + a, s = disc_.node_source(i);
@@ -112,50 +179,182 @@ class DGOperator {
     }
   }
 
-  // Godunov fluxes through every face normal to `axis`. Node R of the minus cell receives
-  // -F*(x_R), node L of the plus cell +F*(x_L); boundary and void neighbours act through ghosts.
-  void face_fluxes(int axis, const NodalField& qn, double t, NodalField& r) const {
-    const double w = face_weight_[axis];
-    const int bit = 1 << axis;
-    State fm, fp;
-    State ghost_value;
-    for (int c = 0; c < disc_.num_cells(); ++c) {
-      const int n = neighbour_[axis][1][c];
-      const bool here = disc_.occupied(c);
-      const bool there = n >= 0 && disc_.occupied(n);
-      if (here || there) {
-        for (int a = 0; a < npc; ++a) {
-          if (!(a & bit)) continue;
-          const int im = c * npc + a;                        // plus-side node of cell c
-          const int ip = n >= 0 ? n * npc + (a ^ bit) : -1;  // matching minus-side node of n
-          if (here && there) {
-            Physics::godunov(axis, qn.col(im), disc_.cell_material(c), qn.col(ip),
-                             disc_.cell_material(n), fm, fp);
-            r.col(im) -= w * fm;
-            r.col(ip) += w * fp;
-          } else if (here) {
-            const auto& mat = disc_.cell_material(c);
-            ghost_value = n < 0 ? Physics::ghost(bc_[axis][1], t, qn.col(im), mat)
-                                : Physics::void_ghost(qn.col(im), mat);
-            Physics::godunov(axis, qn.col(im), mat, ghost_value, mat, fm, fp);
-            r.col(im) -= w * fm;
-          } else {
-            const auto& mat = disc_.cell_material(n);
-            ghost_value = Physics::void_ghost(qn.col(ip), mat);
-            Physics::godunov(axis, ghost_value, mat, qn.col(ip), mat, fm, fp);
-            r.col(ip) += w * fp;
-          }
+  // Faces normal to axis l, indexed like cells but with cells[l] + 1 positions along l on a
+  // non-periodic axis: face k lies between cell k - e_l (minus) and cell k (plus).
+  void tabulate_faces(int l, const Boundaries<dim>& boundaries) {
+    std::array<int, dim> extent = grid_.cells;
+    if (!grid_.periodic[l]) extent[l] += 1;
+    int count = 1;
+    for (int k = 0; k < dim; ++k) count *= extent[k];
+    face_cells_[l].resize(count);
+    face_boundary_[l].assign(count, -1);
+    cell_faces_[l].resize(2 * static_cast<std::size_t>(grid_.num_cells()));
+    for (int f = 0; f < count; ++f) {
+      typename Grid<dim>::Index k{};
+      int rest = f;
+      for (int a = 0; a < dim; ++a) {
+        k[a] = rest % extent[a];
+        rest /= extent[a];
+      }
+      int plus = -1, minus = -1;
+      if (k[l] < grid_.cells[l]) {
+        plus = grid_.flatten(k);
+        cell_faces_[l][2 * plus] = f;
+        minus = grid_.neighbour(plus, l, 0);
+      } else {
+        auto km = k;
+        km[l] -= 1;
+        minus = grid_.flatten(km);
+      }
+      if (minus >= 0) cell_faces_[l][2 * minus + 1] = f;
+      face_cells_[l][f] = {minus, plus};
+      if (minus < 0 || plus < 0) resolve_condition(l, minus < 0 ? 0 : 1, k, boundaries, f);
+    }
+  }
+
+  // The condition of a boundary edge: the segment covering its midpoint, unless that is a
+  // traction or nothing: then the tractions of all segments covering part of the edge, each
+  // times its covered fraction (the applied force is exact), or free.
+  void resolve_condition(int l, int side, const typename Grid<dim>::Index& k,
+                         const Boundaries<dim>& boundaries, int f) {
+    const BoundarySide<dim>& bs = boundaries[l][side];
+    Vec lo, hi;
+    for (int a = 0; a < dim; ++a) {
+      lo[a] = grid_.origin[a] + k[a] * grid_.cell_size[a];
+      hi[a] = lo[a] + grid_.cell_size[a];
+    }
+    const Vec mid = 0.5 * (lo + hi);
+    FaceCondition fc;
+    fc.begin = fc.end = static_cast<int>(parts_.size());
+    const BoundaryCondition<dim>* at_mid = bs.at(mid, l);
+    if (at_mid && at_mid->kind != BoundaryKind::traction) {
+      fc.kind = at_mid->kind;
+      parts_.emplace_back(&at_mid->value, 1.0);
+    } else {
+      for (const auto& s : bs.segments) {
+        if (s.condition.kind != BoundaryKind::traction) continue;
+        double fraction = 1.0;
+        for (int a = 0; a < dim; ++a) {
+          if (a == l) continue;
+          const double overlap = std::min(s.hi[a], hi[a]) - std::max(s.lo[a], lo[a]);
+          fraction *= std::max(0.0, overlap) / grid_.cell_size[a];
+        }
+        if (fraction <= 0.0) continue;
+        fc.kind = BoundaryKind::traction;
+        parts_.emplace_back(&s.condition.value, fraction);
+      }
+    }
+    fc.end = static_cast<int>(parts_.size());
+    face_boundary_[l][f] = static_cast<int>(conditions_.size());
+    conditions_.push_back(fc);
+  }
+
+  Vec condition_value(const FaceCondition& fc, double t) const {
+    Vec v = Vec::Zero();
+    for (int i = fc.begin; i < fc.end; ++i) v += parts_[i].second * (*parts_[i].first)(t);
+    return v;
+  }
+
+  // Kind of the boundary that face f is for its occupied side: the grid side's condition, or a
+  // free surface against a void cell.
+  BoundaryKind mirror_kind(int l, int f) const {
+    const int b = face_boundary_[l][f];
+    return b >= 0 ? conditions_[b].kind : BoundaryKind::free;
+  }
+
+  // Average of cell c's nodal states on its `side` along axis l.
+  State edge_state(const NodalField& qn, int c, int l, int side) const {
+    State s = State::Zero();
+    for (int a = 0; a < npc; ++a)
+      if (((a >> l) & 1) == side) s += qn.col(c * npc + a);
+    return s * (1.0 / face_nodes);
+  }
+
+  bool occupied(int c) const { return c >= 0 && disc_.occupied(c); }
+
+  // Star state of face f along l; false when neither side is occupied.
+  bool face_star(int l, int f, const NodalField& qn, double t, State& star) const {
+    const auto [cm, cp] = face_cells_[l][f];
+    const bool here = occupied(cm), there = occupied(cp);
+    if (here && there) {
+      star = Physics::riemann(l, edge_state(qn, cm, l, 1), disc_.cell_material(cm),
+                              edge_state(qn, cp, l, 0), disc_.cell_material(cp));
+    } else if (here || there) {
+      const int c = here ? cm : cp;
+      const auto& mat = disc_.cell_material(c);
+      const State q = edge_state(qn, c, l, here ? 1 : 0);
+      const int b = face_boundary_[l][f];
+      const State g = b >= 0 ? Physics::ghost(conditions_[b].kind,
+                                              condition_value(conditions_[b], t), l, q, mat)
+                             : Physics::ghost(BoundaryKind::free, Vec::Zero(), l, q, mat);
+      star = here ? Physics::riemann(l, q, mat, g, mat) : Physics::riemann(l, g, mat, q, mat);
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  // The minus cell's face nodes receive -w F_n(q*), the plus cell's +w F_n(q*), each side with
+  // its own material.
+  void distribute(int l, int f, const State& star, NodalField& r) const {
+    const auto [cm, cp] = face_cells_[l][f];
+    const double w = face_weight_[l];
+    if (occupied(cm)) {
+      const State fl = w * Physics::flux(l, star, disc_.cell_material(cm));
+      for (int a = 0; a < npc; ++a)
+        if ((a >> l) & 1) r.col(cm * npc + a) -= fl;
+    }
+    if (occupied(cp)) {
+      const State fl = w * Physics::flux(l, star, disc_.cell_material(cp));
+      for (int a = 0; a < npc; ++a)
+        if (!((a >> l) & 1)) r.col(cp * npc + a) += fl;
+    }
+  }
+
+  void ctu_fluxes(const NodalField& qn, double t, double dt, NodalField& r) const {
+    for (int l = 0; l < dim; ++l) correction_[l].setZero();
+    for (int l = 0; l < dim; ++l) {
+      const double k = dt / (2.0 * grid_.cell_size[l]);
+      for (int f = 0; f < num_faces(l); ++f) {
+        State star;
+        if (!face_star(l, f, qn, t, star)) {
+          star_[l].col(f).setZero();
+          continue;
+        }
+        star_[l].col(f) = star;
+        const auto [cm, cp] = face_cells_[l][f];
+        if (occupied(cm)) {
+          const auto& mat = disc_.cell_material(cm);
+          spread_transverse(
+              cm, l, k * Physics::fluctuation(l, star, edge_state(qn, cm, l, 1), mat, 0));
+        }
+        if (occupied(cp)) {
+          const auto& mat = disc_.cell_material(cp);
+          spread_transverse(
+              cp, l, k * Physics::fluctuation(l, star, edge_state(qn, cp, l, 0), mat, 1));
         }
       }
-      // Lower grid boundary of an occupied cell.
-      if (here && neighbour_[axis][0][c] < 0) {
-        const auto& mat = disc_.cell_material(c);
-        for (int a = 0; a < npc; ++a) {
-          if (a & bit) continue;
-          const int ip = c * npc + a;
-          ghost_value = Physics::ghost(bc_[axis][0], t, qn.col(ip), mat);
-          Physics::godunov(axis, ghost_value, mat, qn.col(ip), mat, fm, fp);
-          r.col(ip) += w * fp;
+    }
+    for (int l = 0; l < dim; ++l)
+      for (int f = 0; f < num_faces(l); ++f)
+        distribute(l, f, State(star_[l].col(f) + correction_[l].col(f)), r);
+  }
+
+  // A fluctuation w (already times dt / (2 h)) that entered cell c through a face normal to l:
+  // its transverse waves correct c's edges along every other axis.
+  void spread_transverse(int c, int l, const State& w) const {
+    const auto& mat = disc_.cell_material(c);
+    for (int t = 0; t < dim; ++t) {
+      if (t == l) continue;
+      for (int up = 0; up < 2; ++up) {
+        const int g = cell_faces_[t][2 * c + up];
+        const int o = up ? face_cells_[t][g].second : face_cells_[t][g].first;
+        if (occupied(o)) {
+          correction_[t].col(g) -= Physics::transverse(t, w, mat, disc_.cell_material(o), up);
+        } else {
+          const State mirrored = Physics::reflect(mirror_kind(t, g), t, w);
+          correction_[t].col(g) -= Physics::transverse(t, w, mat, mat, up) +
+                                   Physics::transverse(t, mirrored, mat, mat, !up);
         }
       }
     }
@@ -163,9 +362,15 @@ class DGOperator {
 
   const Grid<dim>& grid_;
   const Disc& disc_;
-  const Boundaries<dim>& bc_;
+  FluxScheme scheme_;
   Eigen::Matrix<double, dim, 1> face_weight_;
-  std::array<std::array<std::vector<int>, 2>, dim> neighbour_;  // grid.neighbour, tabulated
+  std::array<std::vector<std::pair<int, int>>, dim> face_cells_;  // (minus, plus), -1 outside
+  std::array<std::vector<int>, dim> cell_faces_;                  // [2 c + side] -> face
+  std::array<std::vector<int>, dim> face_boundary_;               // -> conditions_, or -1
+  std::vector<FaceCondition> conditions_;
+  std::vector<std::pair<const Table*, double>> parts_;
+  // CTU only: star states and transverse corrections of the faces of each axis.
+  mutable std::array<NodalField, dim> star_, correction_;
 };
 
 }  // namespace dgmpm

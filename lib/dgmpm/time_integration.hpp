@@ -1,10 +1,14 @@
 #pragma once
-// Explicit integrators on the nodal values (method.md 4). Each owns only the buffers it needs.
-// RK2 is Heun's method; the intermediate stage stays on the grid.
+// Explicit integrators on the nodal values (docs/method.md, "Time integration"). Each owns only
+// the buffers it needs. RK2 is Heun's method; the intermediate stage stays on the grid.
 
 #include "dg_operator.hpp"
 
 namespace dgmpm {
+
+enum class TimeScheme { euler, rk2 };
+
+inline const char* to_string(TimeScheme s) { return s == TimeScheme::euler ? "euler" : "rk2"; }
 
 template <class Physics>
 class ForwardEuler {
@@ -15,7 +19,7 @@ class ForwardEuler {
   void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
     op.project(qp, mass, q_);
-    op.residual(q_, t, r_);
+    op.residual(q_, t, dt, r_);
     op.update(q_, r_, dt);
     op.interpolate(q_, qp);
   }
@@ -34,10 +38,10 @@ class HeunRK2 {
   void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
     op.project(qp, mass, q0_);
-    op.residual(q0_, t, r_);
+    op.residual(q0_, t, dt, r_);
     q1_ = q0_;
     op.update(q1_, r_, dt);
-    op.residual(q1_, t + dt, r_);
+    op.residual(q1_, t + dt, dt, r_);
     op.update(q1_, r_, dt);
     q0_ = 0.5 * (q0_ + q1_);
     op.interpolate(q0_, qp);

@@ -28,24 +28,42 @@ struct Advection {
   static State specific_flux(int axis, const State& q, const Material& m) {
     return State(m.speed[axis] * q[0]);
   }
-  // Upwind flux; both sides see the same flux.
-  static void godunov(int axis, const State& qm, const Material& mm, const State& qp,
-                      const Material& mp, State& flux_m, State& flux_p) {
-    const double a = 0.5 * (mm.speed[axis] + mp.speed[axis]);
-    flux_m = flux_p = State(a >= 0.0 ? a * qm[0] : a * qp[0]);
+  static State physical(const State& q, const Material&) { return q; }
+  // Upwind value (the speed averaged over the two sides decides the direction).
+  static State riemann(int axis, const State& qm, const Material& mm, const State& qp,
+                       const Material& mp) {
+    return 0.5 * (mm.speed[axis] + mp.speed[axis]) >= 0.0 ? qm : qp;
   }
-  // Inflow value for traction/velocity kinds, zero for fixed, outflow (copy) for free.
-  static State ghost(const BoundaryCondition<Dim>& bc, double t, const State& q, const Material&) {
-    switch (bc.kind) {
+  static State flux(int axis, const State& star, const Material& m) {
+    return State(m.speed[axis] * star[0]);
+  }
+  // Inflow value for traction/velocity kinds, zero for fixed and roller, outflow (copy) for free.
+  static State ghost(BoundaryKind kind, const Eigen::Matrix<double, Dim, 1>& value, int /*axis*/,
+                     const State& q, const Material&) {
+    switch (kind) {
       case BoundaryKind::free:
         return q;
       case BoundaryKind::fixed:
+      case BoundaryKind::roller:
         return State::Zero();
       default:
-        return State(bc.value(t)[0]);
+        return State(value[0]);
     }
   }
-  static State void_ghost(const State& q, const Material&) { return q; }
+  // CTU (see PlaneStrain for the interface).
+  static State fluctuation(int axis, const State& star, const State& q, const Material& m,
+                           int side) {
+    return side ? State(flux(axis, q, m) - flux(axis, star, m))
+                : State(flux(axis, star, m) - flux(axis, q, m));
+  }
+  static State transverse(int axis, const State& w, const Material& here, const Material& there,
+                          bool up) {
+    const double b = 0.5 * (here.speed[axis] + there.speed[axis]);
+    return (up ? b > 0.0 : b < 0.0) ? w : State::Zero();
+  }
+  static State reflect(BoundaryKind kind, int /*axis*/, const State& w) {
+    return kind == BoundaryKind::free ? w : State::Zero();
+  }
   static double energy_per_mass(const State& q, const Material&) { return 0.5 * q[0] * q[0]; }
 };
 

@@ -50,37 +50,49 @@ struct ElasticBar {
     return {-(m.young / m.density) * q[1], -q[0]};
   }
 
-  // Godunov flux through a face between a minus and a plus state: the star state of the
-  // Riemann problem, then F(q*) with each side's own modulus (the strain flux -v* is shared).
-  static void godunov(int /*axis*/, const State& qm, const Material& mm, const State& qp,
-                      const Material& mp, State& flux_m, State& flux_p) {
+  static State physical(const State& q, const Material& m) { return {q[0] * m.density, q[1]}; }
+
+  // Star state (sigma*, v*) of the Riemann problem between a minus and a plus state.
+  static State riemann(int /*axis*/, const State& qm, const Material& mm, const State& qp,
+                       const Material& mp) {
     const double zm = mm.impedance(), zp = mp.impedance();
     const double sm = qm[0] * mm.density, sp = qp[0] * mp.density;
     const double inv = 1.0 / (zm + zp);
     const double v_star = (zm * qm[1] + zp * qp[1] + sp - sm) * inv;
     const double s_star = (zp * sm + zm * sp + zm * zp * (qp[1] - qm[1])) * inv;
-    flux_m = {-mm.young * v_star, -s_star};
-    flux_p = {-mp.young * v_star, -s_star};
+    return {s_star, v_star};
+  }
+  // F(q*) with m's modulus: each side of a face its own (the strain flux -v* is shared).
+  static State flux(int /*axis*/, const State& star, const Material& m) {
+    return {-m.young * star[1], -star[0]};
   }
 
-  // Ghost state outside a face whose inside state is q.
-  static State ghost(const BoundaryCondition<1>& bc, double t, const State& q, const Material& m) {
+  // Ghost state outside a face whose inside state is q (value: the prescribed sigma or v).
+  static State ghost(BoundaryKind kind, const Eigen::Matrix<double, 1, 1>& value, int /*axis*/,
+                     const State& q, const Material& m) {
     const double sigma = q[0] * m.density, v = q[1];
-    switch (bc.kind) {
+    switch (kind) {
       case BoundaryKind::free:
         return specific(-sigma, v, m);
       case BoundaryKind::fixed:
+      case BoundaryKind::roller:  // v_n = 0 is all a roller says in 1D
         return specific(sigma, -v, m);
       case BoundaryKind::traction:
-        return specific(2.0 * bc.value(t)[0] - sigma, v, m);
+        return specific(2.0 * value[0] - sigma, v, m);
       case BoundaryKind::velocity:
-        return specific(sigma, 2.0 * bc.value(t)[0] - v, m);
+        return specific(sigma, 2.0 * value[0] - v, m);
     }
     return q;
   }
-  // A void neighbour cell is a free surface.
-  static State void_ghost(const State& q, const Material& m) {
-    return specific(-q[0] * m.density, q[1], m);
+
+  // MPM's constitutive part: the stress of a state, and sigma += dt E dv/dx in specific form.
+  static Eigen::Matrix<double, 1, 1> stress_tensor(const State& q, const Material& m) {
+    return Eigen::Matrix<double, 1, 1>(m.density * q[0]);
+  }
+  template <class Q>
+  static void add_stress_rate(Q&& q, const Eigen::Matrix<double, 1, 1>& grad_v, const Material& m,
+                              double dt) {
+    q[0] += dt * (m.young / m.density) * grad_v(0, 0);
   }
 
   // Energy per unit mass: kinetic v^2 / 2, elastic sigma^2 / (2 E rho) = s^2 rho / (2 E).

@@ -1,0 +1,273 @@
+#pragma once
+// 2D plane-strain linear elasticity (docs/method.md, "Equations"). Conservative state
+// q = (sigma_xx, sigma_yy, sigma_xy, rho v_x, rho v_y); the scheme works with the specific state
+// q^s = (sigma / rho, v). sigma_zz = nu (sigma_xx + sigma_yy) is derived, never evolved.
+//
+// The interface of a physics (shared with ElasticBar and Advection, used by DGOperator):
+//   riemann(axis, q-, m-, q+, m+)   star state of the edge's Riemann problem, physical (sigma, v)
+//   flux(axis, star, m)             F_n(q*) with m's moduli (each side of an edge uses its own)
+//   specific_flux(axis, q, m)       F_n(q) / rho, the volume term's flux
+//   ghost(kind, value, axis, q, m)  outside state that makes the boundary Riemann problem return
+//                                   the prescribed value
+// and, for CTU only:
+//   fluctuation(axis, star, q, m, side)  A^-dq (side 0, into the minus cell) or A^+dq (side 1)
+//                                        as a rate of the physical state (sigma, v)
+//   transverse(axis, w, here, there, up) the part of w that a transverse wave carries from `here`
+//                                        across the edge normal to `axis` into `there` (up: to
+//                                        +axis), as a star-state increment: F_axis of it is B^+w
+//                                        (or B^-w)
+//   reflect(kind, axis, w)               the boundary's mirror map R (linear part of its ghost)
+
+#include "../boundary.hpp"
+
+#include <Eigen/Core>
+#include <cmath>
+
+namespace dgmpm {
+
+struct PlaneStrain {
+  static constexpr int dim = 2;
+  static constexpr int n_comp = 5;
+  using State = Eigen::Matrix<double, n_comp, 1>;
+  using Vec = Eigen::Matrix<double, 2, 1>;
+  enum Component { sxx = 0, syy = 1, sxy = 2, vx = 3, vy = 4 };
+
+  // Index of sigma_nn for a normal along `axis`, of sigma_tt, and of v_n, v_t.
+  static constexpr int normal_stress(int axis) { return axis == 0 ? sxx : syy; }
+  static constexpr int tangential_stress(int axis) { return axis == 0 ? syy : sxx; }
+  static constexpr int normal_velocity(int axis) { return vx + axis; }
+  static constexpr int tangential_velocity(int axis) { return vx + 1 - axis; }
+
+  // Immutable once built: wave speeds and impedances are computed once, not at every edge.
+  class Material {
+   public:
+    Material() : Material(1.0, 0.0, 1.0) {}
+    Material(double young, double poisson, double density)
+        : young(young), poisson(poisson), density(density),
+          lambda_(young * poisson / ((1 + poisson) * (1 - 2 * poisson))),
+          mu_(young / (2 * (1 + poisson))) {
+      finish();
+    }
+    static Material from_lame(double lambda, double mu, double density) {
+      Material m;
+      m.lambda_ = lambda;
+      m.mu_ = mu;
+      m.density = density;
+      m.young = mu * (3 * lambda + 2 * mu) / (lambda + mu);
+      m.poisson = lambda / (2 * (lambda + mu));
+      m.finish();
+      return m;
+    }
+    double young, poisson, density;
+    double lambda() const { return lambda_; }
+    double mu() const { return mu_; }
+    double p_modulus() const { return lambda_ + 2 * mu_; }
+    double p_speed() const { return cp_; }
+    double s_speed() const { return cs_; }
+    double p_impedance() const { return zp_; }
+    double s_impedance() const { return zs_; }
+
+   private:
+    void finish() {
+      cp_ = std::sqrt(p_modulus() / density);
+      cs_ = std::sqrt(mu_ / density);
+      zp_ = density * cp_;
+      zs_ = density * cs_;
+    }
+    double lambda_ = 0, mu_ = 0.5, cp_ = 1, cs_ = 1, zp_ = 1, zs_ = 1;
+  };
+
+  // Mass-weighted blend of the Lame moduli and density, for cells holding several materials.
+  static Material blend(const Material& a, double ma, const Material& b, double mb) {
+    const double w = mb / (ma + mb);
+    return Material::from_lame((1 - w) * a.lambda() + w * b.lambda(),
+                               (1 - w) * a.mu() + w * b.mu(),
+                               (1 - w) * a.density + w * b.density);
+  }
+  static double max_wave_speed(const Material& m) { return m.p_speed(); }
+  static double density(const Material& m) { return m.density; }
+
+  // sigma = (sigma_xx, sigma_yy, sigma_xy), v = (v_x, v_y).
+  static State specific(const Eigen::Vector3d& sigma, const Vec& v, const Material& m) {
+    State q;
+    q << sigma / m.density, v;
+    return q;
+  }
+  // Physical state (sigma, v) of a specific state.
+  static State physical(const State& q, const Material& m) {
+    State s = q;
+    s.head<3>() *= m.density;
+    return s;
+  }
+  static double sigma_zz(const State& physical_state, const Material& m) {
+    return m.poisson * (physical_state[sxx] + physical_state[syy]);
+  }
+
+  // F^s = F / rho along `axis`.
+  static State specific_flux(int axis, const State& q, const Material& m) {
+    const double vn = q[normal_velocity(axis)], vt = q[tangential_velocity(axis)];
+    const double inv = 1.0 / m.density;
+    State f;
+    f[normal_stress(axis)] = -m.p_modulus() * inv * vn;
+    f[tangential_stress(axis)] = -m.lambda() * inv * vn;
+    f[sxy] = -m.mu() * inv * vt;
+    f[normal_velocity(axis)] = -q[normal_stress(axis)];
+    f[tangential_velocity(axis)] = -q[sxy];
+    return f;
+  }
+
+  // F_n of a physical state s with m's moduli: stress rows -C : sym(v (x) n), momentum rows -t.
+  static State flux(int axis, const State& s, const Material& m) {
+    const double vn = s[normal_velocity(axis)], vt = s[tangential_velocity(axis)];
+    State f;
+    f[normal_stress(axis)] = -m.p_modulus() * vn;
+    f[tangential_stress(axis)] = -m.lambda() * vn;
+    f[sxy] = -m.mu() * vt;
+    f[normal_velocity(axis)] = -s[normal_stress(axis)];
+    f[tangential_velocity(axis)] = -s[sxy];
+    return f;
+  }
+
+  // One 1D Riemann problem per pair: (v_n, sigma_nn) at c_p, (v_t, sigma_nt) at c_s, each with
+  // its own impedance on each side. Only the components that F_n reads are set.
+  static State riemann(int axis, const State& qm, const Material& mm, const State& qp,
+                       const Material& mp) {
+    const int nn = normal_stress(axis), vn = normal_velocity(axis), vt = tangential_velocity(axis);
+    State s = State::Zero();
+    pair_star(mm.p_impedance(), qm[nn] * mm.density, qm[vn], mp.p_impedance(), qp[nn] * mp.density,
+              qp[vn], s[nn], s[vn]);
+    pair_star(mm.s_impedance(), qm[sxy] * mm.density, qm[vt], mp.s_impedance(),
+              qp[sxy] * mp.density, qp[vt], s[sxy], s[vt]);
+    return s;
+  }
+
+  // Ghost state (specific) outside an edge normal to `axis` whose inside state is q.
+  // Traction value: (sigma_nn, sigma_nt) prescribed; velocity value: (v_x, v_y).
+  static State ghost(BoundaryKind kind, const Vec& value, int axis, const State& q,
+                     const Material& m) {
+    const int nn = normal_stress(axis), vn = normal_velocity(axis);
+    State g = q;
+    switch (kind) {
+      case BoundaryKind::free:
+        g[nn] = -q[nn];
+        g[sxy] = -q[sxy];
+        break;
+      case BoundaryKind::traction:
+        g[nn] = 2.0 * value[0] / m.density - q[nn];
+        g[sxy] = 2.0 * value[1] / m.density - q[sxy];
+        break;
+      case BoundaryKind::fixed:
+        g[vx] = -q[vx];
+        g[vy] = -q[vy];
+        break;
+      case BoundaryKind::velocity:
+        g[vx] = 2.0 * value[0] - q[vx];
+        g[vy] = 2.0 * value[1] - q[vy];
+        break;
+      case BoundaryKind::roller:
+        g[vn] = -q[vn];
+        g[sxy] = -q[sxy];
+        break;
+    }
+    return g;
+  }
+
+  // --- CTU -----------------------------------------------------------------------------------
+  // A^-dq = F(q*) - F(q-) (side 0) or A^+dq = F(q+) - F(q*) (side 1) with the entered cell's
+  // moduli, momentum rows turned into velocity rates with its density.
+  static State fluctuation(int axis, const State& star, const State& q, const Material& m,
+                           int side) {
+    const State s = physical(q, m);
+    State w = side ? State(flux(axis, s, m) - flux(axis, star, m))
+                   : State(flux(axis, star, m) - flux(axis, s, m));
+    w.tail<2>() /= m.density;
+    return w;
+  }
+
+  // Transverse waves along `axis` (P: v_n with sigma_nn, S: v_t with sigma_nt): the part of the
+  // fluctuation w (a rate of (sigma, v) in `here`) that leaves `here` toward +axis (up) or -axis
+  // across the edge between `here` and `there`, split at that edge as in a Riemann problem
+  // between the two materials, and carried by `there`'s eigenvector.
+  static State transverse(int axis, const State& w, const Material& here, const Material& there,
+                          bool up) {
+    const int nn = normal_stress(axis), tt = tangential_stress(axis);
+    const int vn = normal_velocity(axis), vt = tangential_velocity(axis);
+    const double zph = here.p_impedance(), zpt = there.p_impedance();
+    const double zsh = here.s_impedance(), zst = there.s_impedance();
+    const double sign = up ? -1.0 : 1.0;  // sigma = -Z v on waves to +axis, +Z v to -axis
+    const double bp = (zph * w[vn] + sign * w[nn]) / (zph + zpt);
+    const double bs = (zsh * w[vt] + sign * w[sxy]) / (zsh + zst);
+    State r;
+    r[vn] = bp;
+    r[nn] = sign * zpt * bp;
+    r[tt] = sign * there.lambda() / there.p_speed() * bp;
+    r[vt] = bs;
+    r[sxy] = sign * zst * bs;
+    return r;
+  }
+
+  // The mirror image under a boundary normal to `axis`: the linear part of the ghost rule.
+  static State reflect(BoundaryKind kind, int axis, const State& w) {
+    State r = w;
+    switch (kind) {
+      case BoundaryKind::free:
+      case BoundaryKind::traction:
+        r[normal_stress(axis)] = -w[normal_stress(axis)];
+        r[sxy] = -w[sxy];
+        break;
+      case BoundaryKind::fixed:
+      case BoundaryKind::velocity:
+        r[vx] = -w[vx];
+        r[vy] = -w[vy];
+        break;
+      case BoundaryKind::roller:
+        r[normal_velocity(axis)] = -w[normal_velocity(axis)];
+        r[sxy] = -w[sxy];
+        break;
+    }
+    return r;
+  }
+
+  // --- MPM's constitutive part ------------------------------------------------------------------
+  static Eigen::Matrix2d stress_tensor(const State& q, const Material& m) {
+    Eigen::Matrix2d s;
+    s << q[sxx], q[sxy], q[sxy], q[syy];
+    return m.density * s;
+  }
+  // sigma += dt C : sym(grad v), grad_v(i, j) = dv_i / dx_j, in specific form.
+  template <class Q>
+  static void add_stress_rate(Q&& q, const Eigen::Matrix2d& grad_v, const Material& m, double dt) {
+    const double exx = grad_v(0, 0), eyy = grad_v(1, 1), exy = 0.5 * (grad_v(0, 1) + grad_v(1, 0));
+    const double k = dt / m.density;
+    q[sxx] += k * (m.p_modulus() * exx + m.lambda() * eyy);
+    q[syy] += k * (m.lambda() * exx + m.p_modulus() * eyy);
+    q[sxy] += k * 2.0 * m.mu() * exy;
+  }
+
+  // --- energy (per unit mass) ------------------------------------------------------------------
+  static double kinetic_energy_per_mass(const State& q) {
+    return 0.5 * (q[vx] * q[vx] + q[vy] * q[vy]);
+  }
+  // sigma : epsilon / (2 rho) with the in-plane strains of the plane-strain law.
+  static double elastic_energy_per_mass(const State& q, const Material& m) {
+    const double sx = q[sxx] * m.density, sy = q[syy] * m.density, s = q[sxy] * m.density;
+    const double l2m = m.p_modulus(), l = m.lambda();
+    const double det = l2m * l2m - l * l;
+    const double ex = (l2m * sx - l * sy) / det, ey = (l2m * sy - l * sx) / det;
+    return 0.5 * (sx * ex + sy * ey + s * s / m.mu()) / m.density;
+  }
+  static double energy_per_mass(const State& q, const Material& m) {
+    return kinetic_energy_per_mass(q) + elastic_energy_per_mass(q, m);
+  }
+
+ private:
+  // 1D star state of a (sigma, v) pair with impedances zm, zp (docs/method.md, "Fluxes").
+  static void pair_star(double zm, double sm, double vm, double zp, double sp, double vp,
+                        double& s_star, double& v_star) {
+    const double inv = 1.0 / (zm + zp);
+    v_star = (zm * vm + zp * vp + sp - sm) * inv;
+    s_star = (zp * sm + zm * sp + zm * zp * (vp - vm)) * inv;
+  }
+};
+
+}  // namespace dgmpm

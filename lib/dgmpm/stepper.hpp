@@ -1,0 +1,68 @@
+#pragma once
+// One DGMPM step of a particle configuration: the discretisation, its operator (DCU or CTU
+// fluxes) and one time integrator (Euler or RK2), built together from one set of options. The
+// solver, the whole-scene stability check and the von Neumann analysis all step through it, so
+// that what is analysed is what runs.
+
+#include "dg_operator.hpp"
+#include "discretisation.hpp"
+#include "time_integration.hpp"
+
+#include <optional>
+#include <variant>
+
+namespace dgmpm {
+
+struct StepperOptions {
+  TimeScheme time = TimeScheme::euler;
+  FluxScheme flux = FluxScheme::dcu;
+  bool fill_correction = false;
+};
+
+template <class Physics>
+class Stepper {
+ public:
+  static constexpr int dim = Physics::dim;
+  using Op = DGOperator<Physics>;
+  using Disc = Discretisation<Physics>;
+  using ParticleSet = Particles<dim, Physics::n_comp>;
+
+  // grid and boundaries are referenced and must outlive the stepper. Only the chosen
+  // integrator's buffers exist.
+  Stepper(const Grid<dim>& grid, const Boundaries<dim>& boundaries, const StepperOptions& options)
+      : grid_(grid), boundaries_(boundaries), options_(options) {
+    disc_.set_fill_correction(options.fill_correction);
+    if (options.time == TimeScheme::rk2)
+      integrator_.template emplace<HeunRK2<Physics>>();
+    else
+      integrator_.template emplace<ForwardEuler<Physics>>();
+  }
+  Stepper(const Stepper&) = delete;  // the operator refers to the members
+  Stepper& operator=(const Stepper&) = delete;
+
+  // Rebuilds the discretisation (and the operator on first use) from the particles' positions.
+  // Throws ParticleOutsideGrid.
+  void rebuild(const ParticleSet& particles,
+               const std::vector<typename Physics::Material>& materials) {
+    disc_.build(grid_, particles, materials);
+    if (!op_) op_.emplace(grid_, disc_, boundaries_, options_.flux);
+  }
+
+  void step(typename Op::ParticleField& q, const Eigen::VectorXd& mass, double t, double dt) {
+    std::visit([&](auto& integrator) { integrator.step(*op_, q, mass, t, dt); }, integrator_);
+  }
+
+  const StepperOptions& options() const { return options_; }
+  const Disc& discretisation() const { return disc_; }
+  const Op& op() const { return *op_; }
+
+ private:
+  const Grid<dim>& grid_;
+  const Boundaries<dim>& boundaries_;
+  StepperOptions options_;
+  Disc disc_;
+  std::optional<Op> op_;
+  std::variant<ForwardEuler<Physics>, HeunRK2<Physics>> integrator_;
+};
+
+}  // namespace dgmpm

@@ -1,0 +1,99 @@
+#pragma once
+// VTK XML output for ParaView: one UnstructuredGrid (.vtu) of particles (vertex cells) per output
+// time with every field as point data, and a .pvd collection that opens them as one time series.
+// Files are written atomically, like every other output.
+
+#include <dgmpm/particles.hpp>
+#include <dgmpm/physics/elastic_bar.hpp>
+#include <dgmpm/physics/plane_strain.hpp>
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dgmpm::vtk {
+
+// A named point-data array: `components` values per particle, particle after particle.
+struct PointData {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+
+// Writes particles at `positions` (Dim rows; missing coordinates 0) with the given point data.
+void write_points(const std::string& path, const Eigen::MatrixXd& positions,
+                  const std::vector<PointData>& data);
+
+// The fields of a physics, from the particles' physical states (sigma, v) and, when given, the
+// exact solution's: 1D stress, velocity; 2D sigma_xx, sigma_yy, sigma_xy, sigma_zz, von_mises,
+// velocity (3 components); mass, volume, id and material in both.
+template <class Physics, class ParticleSet, class Field>
+void write_particles(const std::string& path, const ParticleSet& particles,
+                     const std::vector<typename Physics::Material>& materials,
+                     const Field& physical, const std::optional<Field>& exact);
+
+// A .pvd collection of (time, file name relative to the .pvd).
+void write_series(const std::string& path,
+                  const std::vector<std::pair<double, std::string>>& files);
+
+// --- implementation ----------------------------------------------------------------------------
+
+namespace detail {
+inline PointData row(const std::string& name, const Eigen::MatrixXd& field, int r) {
+  PointData d{name, 1, {}};
+  for (Eigen::Index i = 0; i < field.cols(); ++i) d.values.push_back(field(r, i));
+  return d;
+}
+inline PointData vector3(const std::string& name, const Eigen::MatrixXd& field, int first,
+                         int count) {
+  PointData d{name, 3, {}};
+  for (Eigen::Index i = 0; i < field.cols(); ++i)
+    for (int k = 0; k < 3; ++k) d.values.push_back(k < count ? field(first + k, i) : 0.0);
+  return d;
+}
+}  // namespace detail
+
+template <class Physics, class ParticleSet, class Field>
+void write_particles(const std::string& path, const ParticleSet& particles,
+                     const std::vector<typename Physics::Material>& materials,
+                     const Field& physical, const std::optional<Field>& exact) {
+  std::vector<PointData> data;
+  const auto fields = [&](const Eigen::MatrixXd& s, const std::string& prefix) {
+    if constexpr (Physics::dim == 1) {
+      data.push_back(detail::row(prefix + "stress", s, 0));
+      data.push_back(detail::row(prefix + "velocity", s, 1));
+    } else {
+      data.push_back(detail::row(prefix + "sigma_xx", s, PlaneStrain::sxx));
+      data.push_back(detail::row(prefix + "sigma_yy", s, PlaneStrain::syy));
+      data.push_back(detail::row(prefix + "sigma_xy", s, PlaneStrain::sxy));
+      PointData zz{prefix + "sigma_zz", 1, {}}, vm{prefix + "von_mises", 1, {}};
+      for (Eigen::Index i = 0; i < s.cols(); ++i) {
+        const auto& m = materials[particles.material[i]];
+        const double xx = s(PlaneStrain::sxx, i), yy = s(PlaneStrain::syy, i);
+        const double xy = s(PlaneStrain::sxy, i), z = PlaneStrain::sigma_zz(s.col(i), m);
+        zz.values.push_back(z);
+        vm.values.push_back(std::sqrt(
+            0.5 * ((xx - yy) * (xx - yy) + (yy - z) * (yy - z) + (z - xx) * (z - xx)) +
+            3.0 * xy * xy));
+      }
+      data.push_back(zz);
+      data.push_back(vm);
+      data.push_back(detail::vector3(prefix + "velocity", s, PlaneStrain::vx, 2));
+    }
+  };
+  fields(physical, "");
+  if (exact) fields(*exact, "exact_");
+  PointData mass{"mass", 1, {}}, volume{"volume", 1, {}}, id{"id", 1, {}}, mat{"material", 1, {}};
+  for (int i = 0; i < particles.size(); ++i) {
+    mass.values.push_back(particles.mass[i]);
+    volume.values.push_back(particles.volume[i]);
+    id.values.push_back(particles.id[i]);
+    mat.values.push_back(particles.material[i]);
+  }
+  for (auto* d : {&mass, &volume, &id, &mat}) data.push_back(std::move(*d));
+  write_points(path, particles.position, data);
+}
+
+}  // namespace dgmpm::vtk
