@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs dgmpm's build dependencies from Debian 12's packages (run as root).
+# Installs dgmpm's build dependencies from Debian 12's packages (run as root); with --tests also
+# what the test suite needs beyond them (python3-vtk9, to read the VTK output back).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
@@ -7,3 +8,6 @@ apt-get install -y -qq --no-install-recommends \
   g++ cmake make pkg-config \
   libeigen3-dev libarpack2-dev libgsl-dev libboost-test-dev \
   nlohmann-json3-dev libcli11-dev python3 python3-matplotlib python3-numpy >/dev/null
+if [ "${1:-}" = --tests ]; then
+  apt-get install -y -qq --no-install-recommends python3-vtk9 >/dev/null
+fi

@@ -137,6 +137,12 @@ Simulation<Physics>::Simulation(const scene::Scene& scene)
     if constexpr (dim == 1)
       if (!time_control_->automatic()) warn_if_above_admissible();
     if (!scene_.fill_correction) warn_if_overfull_cell(0, 0.0);
+    if (dim > 1 && scene_.flux == FluxScheme::ctu && scene_.time.integrator == TimeScheme::rk2)
+      warnings_.push_back(
+          "flux \"ctu\" with integrator \"rk2\": CTU's transverse corrections are a one-step "
+          "(Euler) device and RK2 already holds the cross terms they add; the pair is stable only "
+          "below Courant 1 even with one particle per cell (about 0.75 for nu = 0.3) and is not "
+          "exact at Courant 1 (use \"dcu\" with \"rk2\" or \"ctu\" with \"euler\")");
     loaded_ = has_loads<dim>(problem_.grid, problem_.boundaries);
     if (loaded_) power_ = load_power();
   } else {

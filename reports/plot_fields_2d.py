@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Plots a field of a 2D run's particles (particles_NNN.csv) at chosen output times, each
+particle drawn as a filled cell-sized square, side by side with one shared colour scale.
+
+    python3 reports/plot_fields_2d.py OUT_DIR --field sigma_xx --times 5e-4 1e-3 -o plate.png
+
+The times are matched to the run's outputs (energy.csv is not needed: each CSV's time comes from
+summary.json's file order and the scene's output times, so pass --scene too), or pass --files.
+"""
+import argparse
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import PatchCollection  # noqa: E402
+from matplotlib.patches import Rectangle  # noqa: E402
+
+
+def read(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("directory", help="the run's output directory")
+    p.add_argument("--scene", help="the scene file (output times, cell size)")
+    p.add_argument("--times", type=float, nargs="+", help="output times to plot (needs --scene)")
+    p.add_argument("--files", nargs="+", help="particle CSV names instead of --times")
+    p.add_argument("--field", default="sigma_xx")
+    p.add_argument("--scale", type=float, default=1e-6, help="multiplies the field (MPa: 1e-6)")
+    p.add_argument("--unit", default="MPa")
+    p.add_argument("--title", default="")
+    p.add_argument("-o", "--output", required=True)
+    a = p.parse_args()
+
+    labels, files = [], []
+    cell = None
+    if a.scene:
+        with open(a.scene) as f:
+            scene = json.load(f)
+        cell = scene["grid"]["cell_size"]
+    if a.files:
+        files = [os.path.join(a.directory, f) for f in a.files]
+        labels = a.files
+    else:
+        if not (a.scene and a.times):
+            sys.exit("plot_fields_2d.py: give --scene with --times, or --files")
+        out_times = sorted(scene["output"]["times"])
+        for t in a.times:
+            k = min(range(len(out_times)), key=lambda i: abs(out_times[i] - t))
+            if abs(out_times[k] - t) > 1e-9 * max(1.0, abs(t)):
+                sys.exit(f"plot_fields_2d.py: {t} is not an output time of the scene")
+            files.append(os.path.join(a.directory, f"particles_{k:03d}.csv"))
+            labels.append(f"t = {out_times[k]:.3g} s")
+    data = [read(f) for f in files]
+    values = [[v * a.scale for v in d[a.field]] for d in data]
+    lo = min(min(v) for v in values)
+    hi = max(max(v) for v in values)
+    if lo == hi:
+        hi = lo + 1
+    fig, axes = plt.subplots(1, len(files), figsize=(4.6 * len(files), 4.2), squeeze=False)
+    cmap = plt.get_cmap("viridis")
+    norm = matplotlib.colors.Normalize(vmin=lo, vmax=hi)
+    for ax, d, v, label in zip(axes[0], data, values, labels):
+        xs, ys = d["x"], d["y"]
+        if cell is None:
+            dx = min(abs(xs[i] - xs[j]) for i in range(min(50, len(xs))) for j in range(i)
+                     if xs[i] != xs[j])
+            h = (dx, dx)
+        else:
+            h = cell
+        squares = [Rectangle((x - h[0] / 2, y - h[1] / 2), h[0], h[1]) for x, y in zip(xs, ys)]
+        pc = PatchCollection(squares, cmap=cmap, norm=norm, edgecolor="none")
+        pc.set_array(v)
+        ax.add_collection(pc)
+        ax.set_xlim(min(xs) - h[0] / 2, max(xs) + h[0] / 2)
+        ax.set_ylim(min(ys) - h[1] / 2, max(ys) + h[1] / 2)
+        ax.set_aspect("equal")
+        ax.set_title(label)
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+    cb = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes[0].tolist())
+    cb.set_label(f"{a.field} ({a.unit})")
+    if a.title:
+        fig.suptitle(a.title)
+    fig.savefig(a.output, dpi=120, bbox_inches="tight")
+
+
+if __name__ == "__main__":
+    main()
