@@ -36,10 +36,12 @@ BoundarySide<Dim> side_of(const std::vector<scene::BoundarySpec>& specs, int axi
     for (std::size_t k = 0; k < spec.times.size(); ++k)
       segment.condition.value.values.push_back(
           Eigen::Map<const Eigen::Matrix<double, Dim, 1>>(spec.values.data() + k * Dim));
-    if (spec.has_range) {
-      const int t = 1 - axis;  // 2D: the side's tangential axis
-      segment.lo[t] = spec.range_lo;
-      segment.hi[t] = spec.range_hi;
+    if constexpr (Dim == 2) {
+      if (spec.has_range) {
+        const int t = 1 - axis;  // the side's tangential axis
+        segment.lo[t] = spec.range_lo;
+        segment.hi[t] = spec.range_hi;
+      }
     }
     side.segments.push_back(segment);
   }
@@ -85,10 +87,64 @@ void set_exact(const scene::Scene& scene, Problem<ElasticBar>& problem) {
   };
 }
 
-void set_exact(const scene::Scene& scene, Problem<PlaneStrain>&) {
-  if (scene.exact)
-    throw scene::SceneError(scene.source + ": exact: value \"" + *scene.exact +
-                            "\" cannot be used in 2D; allowed: no exact key");
+// The plane wave of the scene, physical state at x and t: v = A sin(k . x - c |k| t) along the
+// polarisation; a P wave carries sigma_nn = -Z_p v_n and sigma_tt = lambda / (lambda + 2 mu)
+// sigma_nn, an S wave sigma_nt = -Z_s v_t (n = k / |k|).
+PlaneStrain::State plane_wave(const scene::Scene::PlaneWave& w, const Eigen::Vector2d& k,
+                              const PlaneStrain::Material& m, const Eigen::Vector2d& x, double t) {
+  const Eigen::Vector2d n = k.normalized(), tangent(-n[1], n[0]);
+  const double c = w.shear ? m.s_speed() : m.p_speed();
+  const double v = w.amplitude * std::sin(k.dot(x) - c * k.norm() * t);
+  Eigen::Matrix2d sigma;
+  Eigen::Vector2d velocity;
+  if (w.shear) {
+    velocity = v * tangent;
+    sigma = -m.s_impedance() * v * (n * tangent.transpose() + tangent * n.transpose());
+  } else {
+    velocity = v * n;
+    const double snn = -m.p_impedance() * v;
+    sigma = snn * (n * n.transpose()) +
+            m.lambda() / m.p_modulus() * snn * (tangent * tangent.transpose());
+  }
+  PlaneStrain::State s;
+  s << sigma(0, 0), sigma(1, 1), sigma(0, 1), velocity;
+  return s;
+}
+
+void set_exact(const scene::Scene& scene, Problem<PlaneStrain>& problem) {
+  if (!scene.plane_wave) return;
+  const auto& w = *scene.plane_wave;
+  const Grid<2>& g = problem.grid;
+  const Eigen::Vector2d k(2 * M_PI * w.cycles[0] / g.length(0), 2 * M_PI * w.cycles[1] / g.length(1));
+  const int material = scene.bodies.front().material;
+  const PlaneStrain::Material m = problem.materials[material];
+  auto& p = problem.particles;
+  for (int i = 0; i < p.size(); ++i) {
+    const auto& mi = problem.materials[p.material[i]];
+    const PlaneStrain::State s = plane_wave(w, k, mi, p.position.col(i), 0.0);
+    p.state.col(i) += PlaneStrain::specific(s.head<3>(), s.tail<2>(), mi);
+  }
+  if (!scene.exact) return;
+  const auto fail = [&](const std::string& why) {
+    return scene::SceneError(scene.source +
+                             ": exact: value \"plane_wave\" cannot be used here: " + why);
+  };
+  double volume = 0;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const auto& body = scene.bodies[b];
+    if (body.material != material) throw fail("the plane wave needs a single material");
+    for (double x : body.velocity)
+      if (x != 0) throw fail("the bodies must be at rest (their velocity adds to the wave's)");
+    for (double x : body.stress)
+      if (x != 0) throw fail("the bodies must be unstressed (their stress adds to the wave's)");
+  }
+  for (int i = 0; i < p.size(); ++i) volume += p.volume[i];
+  if (std::abs(volume - g.length(0) * g.length(1)) > 1e-9 * volume)
+    throw fail("the bodies must fill the grid");
+  problem.exact_impedance = w.shear ? m.s_impedance() : m.p_impedance();
+  problem.exact = [w, k, m](const Eigen::Vector2d& x, double t) {
+    return plane_wave(w, k, m, x, t);
+  };
 }
 
 template <class Physics>

@@ -12,6 +12,8 @@
 #include <dgmpm/physics/plane_strain.hpp>
 
 #include <functional>
+#include <string>
+#include <type_traits>
 #include <vector>
 
 namespace dgmpm {
@@ -46,6 +48,20 @@ using PlaneStrainProblem = Problem<PlaneStrain>;
 // asked for a bar of several materials) or its dimension is not the physics'.
 template <class Physics>
 Problem<Physics> make_problem(const scene::Scene& scene);
+
+// The one place where a scene's dimension picks its physics: returns
+// f(std::type_identity<Physics>{}) for the scene's physics (1D: ElasticBar, 2D: PlaneStrain).
+template <class F>
+decltype(auto) with_physics(const scene::Scene& scene, F&& f) {
+  switch (scene.dimension) {
+    case 1:
+      return f(std::type_identity<ElasticBar>{});
+    case 2:
+      return f(std::type_identity<PlaneStrain>{});
+  }
+  throw scene::SceneError(scene.source + ": dimension: value " + std::to_string(scene.dimension) +
+                          " is not implemented; allowed: 1 or 2");
+}
 
 inline BarProblem make_bar_problem(const scene::Scene& scene) {
   return make_problem<ElasticBar>(scene);

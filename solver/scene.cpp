@@ -189,7 +189,8 @@ class Parser {
     s.source = source_;
     check_object(doc, "",
                  {"dimension", "method", "update", "grid", "materials", "bodies", "boundaries",
-                  "time", "particles_move", "fill_correction", "flux", "exact", "output"});
+                  "time", "particles_move", "fill_correction", "flux", "plane_wave", "exact",
+                  "output"});
     s.dimension = parse_dimension(require(doc, "", "dimension", "1"));
     if (const json* m = find(doc, "method"))
       s.method =
@@ -222,9 +223,17 @@ class Parser {
                "flux only with 2D method \"dgmpm\" (1D has one flux)");
       s.flux = named(*f, "flux", {FluxScheme::dcu, FluxScheme::ctu});
     }
+    if (const json* w = find(doc, "plane_wave")) s.plane_wave = parse_plane_wave(*w, s);
     if (const json* e = find(doc, "exact")) {
-      choice<int>(*e, "exact", {{"bar", 0}});
-      s.exact = "bar";
+      if (s.dimension == 1) {
+        choice<int>(*e, "exact", {{"bar", 0}});
+        s.exact = "bar";
+      } else {
+        choice<int>(*e, "exact", {{"plane_wave", 0}});
+        if (!s.plane_wave)
+          refuse("exact", *e, "needs a \"plane_wave\" key", "\"plane_wave\" with a plane_wave");
+        s.exact = "plane_wave";
+      }
     }
     s.output.times = {s.time.end};
     s.output.vtu = s.dimension > 1;
@@ -791,6 +800,29 @@ class Parser {
       }
     }
     return bc;
+  }
+
+  Scene::PlaneWave parse_plane_wave(const json& w, const Scene& s) const {
+    if (s.dimension != 2)
+      refuse("plane_wave", w, "is not allowed in " + std::to_string(s.dimension) + "D",
+             "plane_wave in 2D scenes");
+    if (!s.grid.periodic[0] || !s.grid.periodic[1])
+      refuse("plane_wave", w, "needs a grid periodic on both axes",
+             "\"periodic\": true in grid");
+    check_object(w, "plane_wave", {"wave", "cycles", "amplitude"});
+    Scene::PlaneWave wave;
+    wave.shear = choice<int>(require(w, "plane_wave", "wave", "\"p\" or \"s\""),
+                             "plane_wave.wave", {{"p", 0}, {"s", 1}}) == 1;
+    const std::string allowed = "an array of 2 integers, not both 0 (wave periods across the grid)";
+    const json& c = require(w, "plane_wave", "cycles", allowed);
+    numbers(c, "plane_wave.cycles", 2, "wave periods across the grid along x and y");
+    for (std::size_t a = 0; a < 2; ++a)
+      wave.cycles[a] = integer(c[a], index_path("plane_wave.cycles", a), -1000, 1000, allowed);
+    if (wave.cycles[0] == 0 && wave.cycles[1] == 0)
+      not_allowed("plane_wave.cycles", c, allowed);
+    wave.amplitude = positive(require(w, "plane_wave", "amplitude", "a velocity > 0 (m/s)"),
+                              "plane_wave.amplitude");
+    return wave;
   }
 
   void parse_output(const json& o, Scene& s) const {

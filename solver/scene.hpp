@@ -91,7 +91,16 @@ struct Scene {
   TimeSpec time;
   bool particles_move = false;
   bool fill_correction = false;      // DGMPM: pseudo-stiffness scaled to the cell's volume
-  std::optional<std::string> exact;  // "bar"
+  std::optional<std::string> exact;  // "bar" (1D), "plane_wave" (2D)
+  // 2D: a smooth plane wave added to the bodies' initial state on a doubly periodic grid:
+  // v = amplitude sin(k . x) times the polarisation (k for a P wave, k turned by +90 degrees for
+  // an S wave), k = 2 pi (cycles_x / L_x, cycles_y / L_y), stress that of the travelling wave.
+  struct PlaneWave {
+    bool shear = false;
+    std::array<int, 2> cycles{1, 0};
+    double amplitude = 1.0;
+  };
+  std::optional<PlaneWave> plane_wave;
   OutputSpec output;
   std::string source;  // file name, for messages
 };

@@ -79,8 +79,9 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
   if (scene.method != scene::Method::dgmpm)
     throw scene::SceneError(scene.source + ": method: value \"" + scene::to_string(scene.method) +
                             "\" has no DGMPM operator to analyse; allowed: \"dgmpm\"");
-  return scene.dimension == 1 ? analyse<ElasticBar>(scene, tolerance)
-                              : analyse<PlaneStrain>(scene, tolerance);
+  return with_physics(scene, [&](auto physics) {
+    return analyse<typename decltype(physics)::type>(scene, tolerance);
+  });
 }
 
 int scene_courant_command(const std::string& path, bool json, std::ostream& out,

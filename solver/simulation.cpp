@@ -111,15 +111,9 @@ ErrorNorms relative_errors(const Eigen::MatrixXd& computed, const Eigen::MatrixX
 }
 
 std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene) {
-  switch (scene.dimension) {
-    case 1:
-      return std::make_unique<Simulation<ElasticBar>>(scene);
-    case 2:
-      return std::make_unique<Simulation<PlaneStrain>>(scene);
-    default:
-      throw scene::SceneError(scene.source + ": dimension: value " +
-                              std::to_string(scene.dimension) + " is not implemented; allowed: 1 or 2");
-  }
+  return with_physics(scene, [&](auto physics) -> std::unique_ptr<SimulationBase> {
+    return std::make_unique<Simulation<typename decltype(physics)::type>>(scene);
+  });
 }
 
 template <class Physics>
