@@ -115,7 +115,8 @@ void set_exact(const scene::Scene& scene, Problem<PlaneStrain>& problem) {
   if (!scene.plane_wave) return;
   const auto& w = *scene.plane_wave;
   const Grid<2>& g = problem.grid;
-  const Eigen::Vector2d k(2 * M_PI * w.cycles[0] / g.length(0), 2 * M_PI * w.cycles[1] / g.length(1));
+  const Eigen::Vector2d k(2 * M_PI * w.cycles[0] / g.length(0),
+                          2 * M_PI * w.cycles[1] / g.length(1));
   const int material = scene.bodies.front().material;
   const PlaneStrain::Material m = problem.materials[material];
   auto& p = problem.particles;
@@ -180,9 +181,8 @@ template <class Physics>
 Problem<Physics> make_problem(const scene::Scene& scene) {
   constexpr int dim = Physics::dim;
   if (scene.dimension != dim)
-    throw scene::SceneError(scene.source + ": dimension: value " +
-                            std::to_string(scene.dimension) + " does not fit a " +
-                            std::to_string(dim) + "D problem");
+    throw scene::SceneError(scene.source + ": dimension: value " + std::to_string(scene.dimension) +
+                            " does not fit a " + std::to_string(dim) + "D problem");
   Problem<Physics> p;
   for (int a = 0; a < dim; ++a) {
     p.grid.origin[a] = scene.grid.origin[a];

@@ -17,14 +17,12 @@ struct RunArguments {
 };
 
 void print_human(const scene::Scene& scene, const SimulationBase& sim, const RunSummary& s) {
-  std::printf("%s: %dD, %s, %s%s%s, %d particles, %d cells\n", scene.source.c_str(),
-              scene.dimension, scene::to_string(scene.method),
-              scene::to_string(scene.time.integrator),
-              scene.dimension > 1 && scene.method == scene::Method::dgmpm ? ", " : "",
-              scene.dimension > 1 && scene.method == scene::Method::dgmpm
-                  ? to_string(scene.flux)
-                  : "",
-              sim.num_particles(), sim.num_cells());
+  std::printf(
+      "%s: %dD, %s, %s%s%s, %d particles, %d cells\n", scene.source.c_str(), scene.dimension,
+      scene::to_string(scene.method), scene::to_string(scene.time.integrator),
+      scene.dimension > 1 && scene.method == scene::Method::dgmpm ? ", " : "",
+      scene.dimension > 1 && scene.method == scene::Method::dgmpm ? to_string(scene.flux) : "",
+      sim.num_particles(), sim.num_cells());
   std::printf("steps %ld, final time %.9g s, dt %.6g to %.6g s, wall %.3f s\n", s.steps,
               s.final_time, s.dt_min, s.dt_max, s.wall_seconds);
   if (scene.time.courant_auto)

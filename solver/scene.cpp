@@ -146,9 +146,8 @@ void for_each_seed(const Scene& scene, const BodySpec& body,
       Seed seed;
       bool inside = true;
       for (std::size_t a = 0; a < static_cast<std::size_t>(dim); ++a) {
-        const double x =
-            scene.grid.origin[a] +
-            (static_cast<double>(k[a]) + body.layout[j][a]) * scene.grid.cell_size[a];
+        const double x = scene.grid.origin[a] +
+                         (static_cast<double>(k[a]) + body.layout[j][a]) * scene.grid.cell_size[a];
         seed.cell[a] = k[a];
         seed.x[a] = x;
         if (!(body.box_min[a] <= x && x < body.box_max[a])) inside = false;
@@ -218,8 +217,9 @@ class Parser {
     }
     if (const json* f = find(doc, "flux")) {
       if (s.dimension == 1 || s.method != Method::dgmpm)
-        refuse("flux", *f, "is not allowed with " + std::to_string(s.dimension) + "D method \"" +
-                               to_string(s.method) + "\"",
+        refuse("flux", *f,
+               "is not allowed with " + std::to_string(s.dimension) + "D method \"" +
+                   to_string(s.method) + "\"",
                "flux only with 2D method \"dgmpm\" (1D has one flux)");
       s.flux = named(*f, "flux", {FluxScheme::dcu, FluxScheme::ctu});
     }
@@ -374,13 +374,13 @@ class Parser {
     for (std::size_t a = 0; a < n; ++a)
       grid.cells.push_back(integer(c[a], index_path("grid.cells", a), 1, INT_MAX));
     if (const json* p = find(g, "periodic")) {
-      const std::string allowed = "true or false, or an array of " + std::to_string(dim) +
-                                  " booleans (one per axis)";
+      const std::string allowed =
+          "true or false, or an array of " + std::to_string(dim) + " booleans (one per axis)";
       if (p->is_boolean()) {
         for (std::size_t a = 0; a < n; ++a) grid.periodic[a] = p->get<bool>();
       } else if (p->is_array()) {
-        if (p->size() != n) refuse("grid.periodic", *p, "has " + std::to_string(p->size()) +
-                                   " entries", allowed);
+        if (p->size() != n)
+          refuse("grid.periodic", *p, "has " + std::to_string(p->size()) + " entries", allowed);
         for (std::size_t a = 0; a < n; ++a)
           grid.periodic[a] = boolean((*p)[a], index_path("grid.periodic", a));
       } else {
@@ -519,8 +519,7 @@ class Parser {
       fail(ppc_path, "missing required key (or positions_in_cell); allowed: " + one_of);
     if (ppc) {
       std::array<int, 3> count{1, 1, 1};
-      const std::string allowed = "an integer from 1 to " +
-                                  std::to_string(max_particles_per_cell) +
+      const std::string allowed = "an integer from 1 to " + std::to_string(max_particles_per_cell) +
                                   " (per axis), or an array of " + std::to_string(n) +
                                   " such integers, at most " +
                                   std::to_string(max_particles_per_cell) + " particles in all";
@@ -545,8 +544,8 @@ class Parser {
           body.layout.push_back(xi);
         }
     } else {
-      const std::string point = n == 1 ? "a number in [0, 1]"
-                                       : "an array of " + std::to_string(n) + " numbers in [0, 1]";
+      const std::string point =
+          n == 1 ? "a number in [0, 1]" : "an array of " + std::to_string(n) + " numbers in [0, 1]";
       const std::string allowed = "an array of 1 to " + std::to_string(max_particles_per_cell) +
                                   (n == 1 ? " numbers in [0, 1]" : " points, each " + point);
       array(*pic, pic_path, allowed);
@@ -603,8 +602,8 @@ class Parser {
       std::string layout;
       for (const auto& xi : b.layout) {
         std::vector<double> point(xi.begin(), xi.begin() + static_cast<std::ptrdiff_t>(dim));
-        layout += (layout.empty() ? "" : ", ") +
-                  (dim == 1 ? format_number(xi[0]) : numbers_text(point));
+        layout +=
+            (layout.empty() ? "" : ", ") + (dim == 1 ? format_number(xi[0]) : numbers_text(point));
       }
       refuse(index_path("bodies", i) + ".box", bodies[i]["box"],
              "holds no particle: no origin + (k + xi) * cell_size with xi in [" + layout +
@@ -690,8 +689,8 @@ class Parser {
     const auto t = static_cast<std::size_t>(1 - axis);  // the side's tangential axis (2D)
     const double lo = s.grid.origin[t], hi = s.grid.upper(t);
     const double slack = 1e-12 * (hi - lo);
-    const std::string side_text = std::string("the side's extent along ") + axis_names[t] +
-                                  " [" + format_number(lo) + ", " + format_number(hi) + "]";
+    const std::string side_text = std::string("the side's extent along ") + axis_names[t] + " [" +
+                                  format_number(lo) + ", " + format_number(hi) + "]";
     for (std::size_t j = 0; j < segments.size(); ++j) {
       const BoundarySpec& b = segments[j];
       const json& range = v.is_array() ? v[j]["range"] : v["range"];
@@ -735,8 +734,7 @@ class Parser {
                       {BoundaryKind::free, BoundaryKind::fixed, BoundaryKind::traction,
                        BoundaryKind::velocity, BoundaryKind::roller});
     else
-      bc.kind = named(require(v, path, "type", "one of free, fixed, traction, velocity"),
-                      type_path,
+      bc.kind = named(require(v, path, "type", "one of free, fixed, traction, velocity"), type_path,
                       {BoundaryKind::free, BoundaryKind::fixed, BoundaryKind::traction,
                        BoundaryKind::velocity});
     if (const json* r = find(v, "range")) {
@@ -786,11 +784,13 @@ class Parser {
       const json& r = (*value)[k];
       const std::string row_allowed = plane ? "a pair [time, " + one + "]" : "a pair [time, value]";
       array(r, row, row_allowed);
-      if (r.size() != 2) refuse(row, r, "has " + std::to_string(r.size()) + " entries", row_allowed);
+      if (r.size() != 2)
+        refuse(row, r, "has " + std::to_string(r.size()) + " entries", row_allowed);
       const double time = number(r[0], row + "[0]", "a time >= 0");
       if (k == 0 && !(time >= 0)) refuse(row + "[0]", r[0], "is a negative time", "times >= 0");
       if (k > 0 && !(time > bc.times.back()))
-        refuse(row + "[0]", r[0], "is not after the previous time " + format_number(bc.times.back()),
+        refuse(row + "[0]", r[0],
+               "is not after the previous time " + format_number(bc.times.back()),
                "strictly increasing times");
       bc.times.push_back(time);
       if (plane) {
@@ -807,19 +807,17 @@ class Parser {
       refuse("plane_wave", w, "is not allowed in " + std::to_string(s.dimension) + "D",
              "plane_wave in 2D scenes");
     if (!s.grid.periodic[0] || !s.grid.periodic[1])
-      refuse("plane_wave", w, "needs a grid periodic on both axes",
-             "\"periodic\": true in grid");
+      refuse("plane_wave", w, "needs a grid periodic on both axes", "\"periodic\": true in grid");
     check_object(w, "plane_wave", {"wave", "cycles", "amplitude"});
     Scene::PlaneWave wave;
-    wave.shear = choice<int>(require(w, "plane_wave", "wave", "\"p\" or \"s\""),
-                             "plane_wave.wave", {{"p", 0}, {"s", 1}}) == 1;
+    wave.shear = choice<int>(require(w, "plane_wave", "wave", "\"p\" or \"s\""), "plane_wave.wave",
+                             {{"p", 0}, {"s", 1}}) == 1;
     const std::string allowed = "an array of 2 integers, not both 0 (wave periods across the grid)";
     const json& c = require(w, "plane_wave", "cycles", allowed);
     numbers(c, "plane_wave.cycles", 2, "wave periods across the grid along x and y");
     for (std::size_t a = 0; a < 2; ++a)
       wave.cycles[a] = integer(c[a], index_path("plane_wave.cycles", a), -1000, 1000, allowed);
-    if (wave.cycles[0] == 0 && wave.cycles[1] == 0)
-      not_allowed("plane_wave.cycles", c, allowed);
+    if (wave.cycles[0] == 0 && wave.cycles[1] == 0) not_allowed("plane_wave.cycles", c, allowed);
     wave.amplitude = positive(require(w, "plane_wave", "amplitude", "a velocity > 0 (m/s)"),
                               "plane_wave.amplitude");
     return wave;
@@ -834,8 +832,8 @@ class Parser {
       s.output.csv = s.output.vtu = false;
       for (std::size_t k = 0; k < f->size(); ++k) {
         const std::string p = index_path("output.formats", k);
-        bool& on = choice<int>((*f)[k], p, {{"csv", 0}, {"vtu", 1}}) == 0 ? s.output.csv
-                                                                            : s.output.vtu;
+        bool& on =
+            choice<int>((*f)[k], p, {{"csv", 0}, {"vtu", 1}}) == 0 ? s.output.csv : s.output.vtu;
         if (on) refuse(p, (*f)[k], "is listed twice", "each format once");
         on = true;
       }

@@ -52,8 +52,7 @@ std::string format_step(long step, double t) {
 template <int Dim>
 std::string grid_extent(const Grid<Dim>& g) {
   std::ostringstream s;
-  for (int a = 0; a < Dim; ++a)
-    s << (a ? " x [" : "[") << g.origin[a] << ", " << g.upper(a) << "]";
+  for (int a = 0; a < Dim; ++a) s << (a ? " x [" : "[") << g.origin[a] << ", " << g.upper(a) << "]";
   return s.str();
 }
 
@@ -164,9 +163,8 @@ void Simulation<Physics>::warn_if_above_admissible() {
     s << "Courant number " << scene_.time.courant << " is above the admissible "
       << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
       << ", " << scene::to_string(scene_.time.integrator) << ") of the layout of cell "
-      << limit.cell << " (positions " << stability::describe(limit.layout.positions)
-      << ", masses " << stability::describe(limit.layout.masses)
-      << (limit.fill < 1 ? ", fill " : "");
+      << limit.cell << " (positions " << stability::describe(limit.layout.positions) << ", masses "
+      << stability::describe(limit.layout.masses) << (limit.fill < 1 ? ", fill " : "");
     if (limit.fill < 1) s << limit.fill;
     s << "): the run may be unstable";
     warnings_.push_back(s.str());
@@ -401,10 +399,9 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
       }
       if (vtu) {
         std::snprintf(name, sizeof name, "particles_%03d.vtu", output_index);
-        vtk::write_particles<Physics>(directory + "/" + name, problem_.particles,
-                                      problem_.materials, physical_state(),
-                                      problem_.exact ? std::optional(exact_state(time_))
-                                                     : std::nullopt);
+        vtk::write_particles<Physics>(
+            directory + "/" + name, problem_.particles, problem_.materials, physical_state(),
+            problem_.exact ? std::optional(exact_state(time_)) : std::nullopt);
         summary.files.push_back(directory + "/" + name);
         series.emplace_back(time_, name);
       }

@@ -85,9 +85,7 @@ class Simulation final : public SimulationBase {
   // stability analysis of the cells' layouts with "courant": "auto" (recomputed after moves).
   double stable_time_step() const { return dt_; }
   // DGMPM only (empty for MPM).
-  const std::optional<TimeStepControl<Physics>>& time_step_control() const {
-    return time_control_;
-  }
+  const std::optional<TimeStepControl<Physics>>& time_step_control() const { return time_control_; }
   // Set up: a fixed Courant number above the admissible one of some cell's layout. Any time: the
   // first cell holding more than a full cell's mass (see warn_if_overfull_cell).
   const std::vector<std::string>& warnings() const override { return warnings_; }
@@ -105,14 +103,8 @@ class Simulation final : public SimulationBase {
   Field physical_state() const;
   Eigen::MatrixXd stresses() const { return physical_state().topRows(ncomp - dim); }
   Eigen::MatrixXd velocities() const { return physical_state().bottomRows(dim); }
-  Eigen::VectorXd stress() const
-    requires(dim == 1)
-  {
-    return physical_state().row(0).transpose();
-  }
-  Eigen::VectorXd velocity() const
-    requires(dim == 1)
-  {
+  Eigen::VectorXd stress() const requires(dim == 1) { return physical_state().row(0).transpose(); }
+  Eigen::VectorXd velocity() const requires(dim == 1) {
     return physical_state().row(1).transpose();
   }
   // Kinetic and elastic energy of the particles (per unit cross-section in 1D, per unit
@@ -128,14 +120,10 @@ class Simulation final : public SimulationBase {
   // Requires an exact solution. Evaluated at the particles' initial positions: with moving
   // particles (small strain) fields are compared in the material coordinate.
   Field exact_state(double t) const;
-  Eigen::VectorXd exact_stress(double t) const
-    requires(dim == 1)
-  {
+  Eigen::VectorXd exact_stress(double t) const requires(dim == 1) {
     return exact_state(t).row(0).transpose();
   }
-  Eigen::VectorXd exact_velocity(double t) const
-    requires(dim == 1)
-  {
+  Eigen::VectorXd exact_velocity(double t) const requires(dim == 1) {
     return exact_state(t).row(1).transpose();
   }
 
@@ -150,8 +138,8 @@ class Simulation final : public SimulationBase {
 
   scene::Scene scene_;
   Problem<Physics> problem_;
-  std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
-  std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
+  std::unique_ptr<Stepper<Physics>> stepper_;                      // DGMPM
+  std::unique_ptr<Mpm<Physics>> mpm_;                              // MPM baseline
   Eigen::Matrix<double, dim, Eigen::Dynamic> reference_position_;  // initial positions
   std::optional<TimeStepControl<Physics>> time_control_;
   std::vector<std::string> warnings_;

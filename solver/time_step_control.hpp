@@ -88,9 +88,8 @@ class TimeStepControl : public LayoutQuantisation {
     double fill = 1;
     stability::CellLayout layout;
   };
-  Limit smallest_admissible(const Disc& disc, const ParticleSet& particles, double cell_volume)
-    requires(dim == 1)
-  {
+  Limit smallest_admissible(const Disc& disc, const ParticleSet& particles,
+                            double cell_volume) requires(dim == 1) {
     Limit limit;
     limit.courant = std::numeric_limits<double>::infinity();
     for (int c = 0; c < disc.num_cells(); ++c) {
@@ -107,27 +106,25 @@ class TimeStepControl : public LayoutQuantisation {
 
   // The layout of cell c as analysed: positions (quantised when particles move) sorted, masses
   // relative to the first one.
-  stability::CellLayout layout_of(const Disc& disc, const ParticleSet& particles, int c)
-    requires(dim == 1)
-  {
+  stability::CellLayout layout_of(const Disc& disc, const ParticleSet& particles,
+                                  int c) requires(dim == 1) {
     fill_key(disc, particles, c);
     return key_layout();
   }
 
   // Admissible Courant number of cell c's layout, through the cache (no allocation on a hit),
   // times min(1, fill).
-  double cell_courant(const Disc& disc, const ParticleSet& particles, int c, double cell_volume)
-    requires(dim == 1)
-  {
+  double cell_courant(const Disc& disc, const ParticleSet& particles, int c,
+                      double cell_volume) requires(dim == 1) {
     const double small_cell = std::min(1.0, fill(disc, c, cell_volume));
     if (disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_courant_ > 0.0)
       return small_cell * lone_particle_courant_;  // the common case, without building a key
     fill_key(disc, particles, c);
     const auto it = cache_.find(key_);
     if (it != cache_.end()) return small_cell * it->second;
-    const double courant = stability::admissible_courant(key_layout(), scheme_, criterion_,
-                                                         stability::Model::elastic)
-                               .courant;
+    const double courant =
+        stability::admissible_courant(key_layout(), scheme_, criterion_, stability::Model::elastic)
+            .courant;
     cache_.emplace(key_, courant);
     if (key_.size() == 2) lone_particle_courant_ = courant;
     return small_cell * courant;

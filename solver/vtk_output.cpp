@@ -47,8 +47,7 @@ void write_series(const std::string& path,
         << "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
         << "<Collection>\n";
     for (const auto& [t, file] : files)
-      out << "<DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file
-          << "\"/>\n";
+      out << "<DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
     out << "</Collection>\n</VTKFile>\n";
   });
 }

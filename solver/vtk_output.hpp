@@ -74,9 +74,9 @@ void write_particles(const std::string& path, const ParticleSet& particles,
         const double xx = s(PlaneStrain::sxx, i), yy = s(PlaneStrain::syy, i);
         const double xy = s(PlaneStrain::sxy, i), z = PlaneStrain::sigma_zz(s.col(i), m);
         zz.values.push_back(z);
-        vm.values.push_back(std::sqrt(
-            0.5 * ((xx - yy) * (xx - yy) + (yy - z) * (yy - z) + (z - xx) * (z - xx)) +
-            3.0 * xy * xy));
+        vm.values.push_back(
+            std::sqrt(0.5 * ((xx - yy) * (xx - yy) + (yy - z) * (yy - z) + (z - xx) * (z - xx)) +
+                      3.0 * xy * xy));
       }
       data.push_back(zz);
       data.push_back(vm);

@@ -87,7 +87,7 @@ class PeriodicCells {
   Grid<1> grid_;
   Particles<1, ncomp> particles_;
   std::vector<typename Physics::Material> materials_;
-  Boundaries<1> boundaries_{};  // unused: every axis is periodic
+  Boundaries<1> boundaries_{};                   // unused: every axis is periodic
   std::optional<Stepper<Physics>> steppers_[2];  // [TimeScheme]
 };
 

@@ -160,9 +160,9 @@ BOOST_AUTO_TEST_CASE(advection_translates_a_step_exactly_at_courant_one) {
           double err = 0;
           for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i)
-              err = std::max(err,
-                             std::abs(plate.particles.state(0, plate.index(i, j)) -
-                                      profile(axis == 0 ? i - steps : i, axis == 1 ? j - steps : j)));
+              err = std::max(
+                  err, std::abs(plate.particles.state(0, plate.index(i, j)) -
+                                profile(axis == 0 ? i - steps : i, axis == 1 ? j - steps : j)));
           BOOST_TEST(err < 1e-13);
         }
       }

@@ -161,11 +161,11 @@ struct Impact {
 
 BOOST_AUTO_TEST_CASE(node_numbering_is_continuous_and_wraps_on_periodic_axes) {
   Mpm<ElasticBar> open(make_grid(0.0, 0.1, 10), Boundaries<1>{}, {steel}, MpmVariant::usl,
-              MpmVelocityUpdate::flip);
+                       MpmVelocityUpdate::flip);
   BOOST_TEST(open.num_nodes() == 11);
   BOOST_TEST(open.node({9}, 1) == 10);
   Mpm<ElasticBar> ring(make_grid(0.0, 0.1, 10, true), Boundaries<1>{}, {steel}, MpmVariant::usl,
-              MpmVelocityUpdate::flip);
+                       MpmVelocityUpdate::flip);
   BOOST_TEST(ring.num_nodes() == 10);
   BOOST_TEST(ring.node({9}, 1) == 0);
 
@@ -193,7 +193,7 @@ BOOST_AUTO_TEST_CASE(rigid_translation_keeps_velocity_5) {
       Bar ps = make_particles(
           x, dx, steel, [&](double) { return v; }, [](double) { return 0.0; });
       Mpm<ElasticBar> mpm(make_grid(0.0, dx, cells, true), Boundaries<1>{}, {steel}, combo.variant,
-                 combo.update);
+                          combo.update);
       for (int n = 0; n < steps; ++n) mpm.step(ps, n * dt, dt, true);
       for (int p = 0; p < ps.size(); ++p) {
         BOOST_TEST(std::abs(ps.state(ElasticBar::velocity, p) - v) < 1e-12 * v);
@@ -218,7 +218,8 @@ BOOST_AUTO_TEST_CASE(single_particle_translation_usf_musl) {
     BOOST_TEST_CONTEXT(name(combo)) {
       Bar ps = make_particles(
           {0.05}, dx, steel, [&](double) { return v; }, [](double) { return 0.0; });
-      Mpm<ElasticBar> mpm(make_grid(0.0, dx, 10), Boundaries<1>{}, {steel}, combo.variant, combo.update);
+      Mpm<ElasticBar> mpm(make_grid(0.0, dx, 10), Boundaries<1>{}, {steel}, combo.variant,
+                          combo.update);
       for (int n = 0; n < steps; ++n) mpm.step(ps, n * dt, dt, true);
       BOOST_TEST(ps.position(0, 0) > 0.6);
       BOOST_TEST(std::abs(ps.state(ElasticBar::velocity, 0) - v) < 1e-12 * v);
@@ -240,7 +241,8 @@ BOOST_AUTO_TEST_CASE(usl_small_nodal_mass_amplifies_stress) {
     BOOST_TEST_CONTEXT(name(combo)) {
       Bar ps = make_particles(
           {(3 + xi) * dx}, dx, steel, [](double) { return 0.0; }, [&](double) { return sigma0; });
-      Mpm<ElasticBar> mpm(make_grid(0.0, dx, 10), Boundaries<1>{}, {steel}, combo.variant, combo.update);
+      Mpm<ElasticBar> mpm(make_grid(0.0, dx, 10), Boundaries<1>{}, {steel}, combo.variant,
+                          combo.update);
       mpm.step(ps, 0.0, dt, false);
       const double expected = combo.variant == MpmVariant::usl
                                   ? 1.0 - courant * courant * (1.0 / (1.0 - xi) + 1.0 / xi)
@@ -281,7 +283,7 @@ BOOST_AUTO_TEST_CASE(standing_wave_convergence) {
         centres(0.0, dx, cells), dx, unit, [&](double x) { return amplitude * std::sin(k * x); },
         [](double) { return 0.0; });
     Mpm<ElasticBar> mpm(make_grid(0.0, dx, cells, true), Boundaries<1>{}, {unit}, combo.variant,
-               combo.update);
+                        combo.update);
     const int steps = static_cast<int>(std::lround(end / (0.5 * dx)));
     const double dt = end / steps;
     for (int n = 0; n < steps; ++n) mpm.step(ps, n * dt, dt, false);
@@ -509,7 +511,7 @@ BOOST_AUTO_TEST_CASE(particle_leaving_the_grid_throws) {
   Bar ps = make_particles(
       {0.25, 0.98}, dx, steel, [](double) { return 5.0; }, [](double) { return 0.0; });
   Mpm<ElasticBar> mpm(make_grid(0.0, dx, 10), Boundaries<1>{}, {steel}, MpmVariant::usl,
-             MpmVelocityUpdate::flip);
+                      MpmVelocityUpdate::flip);
   const double dt = 1.1e-3;  // 5.5 mm per step
   bool thrown = false;
   for (int n = 0; n < 10 && !thrown; ++n) {

@@ -27,20 +27,22 @@ json plane_wave(bool shear, bool angled, int n, const std::string& method, const
   const int ny = static_cast<int>(std::lround(n * ly));
   const double k = std::hypot(1.0, angled ? 1.0 / ly : 0.0);  // cycles per metre
   const double c = shear ? steel.s_speed() : steel.p_speed();
-  json doc = {
-      {"dimension", 2},
-      {"method", method},
-      {"grid",
-       {{"origin", {0.0, 0.0}}, {"cell_size", {1.0 / n, ly / ny}}, {"cells", {n, ny}},
-        {"periodic", true}}},
-      {"materials", {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}}}},
-      {"bodies",
-       {{{"material", "steel"},
-         {"box", {{"min", {0.0, 0.0}}, {"max", {1.0, ly}}}},
-         {"particles_per_cell", {1, 1}}}}},
-      {"plane_wave", {{"wave", shear ? "s" : "p"}, {"cycles", {1, angled ? 1 : 0}}, {"amplitude", 1.0}}},
-      {"exact", "plane_wave"},
-      {"time", {{"end", 1.0 / (k * c)}, {"courant", 0.5}}}};
+  json doc = {{"dimension", 2},
+              {"method", method},
+              {"grid",
+               {{"origin", {0.0, 0.0}},
+                {"cell_size", {1.0 / n, ly / ny}},
+                {"cells", {n, ny}},
+                {"periodic", true}}},
+              {"materials", {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}}}},
+              {"bodies",
+               {{{"material", "steel"},
+                 {"box", {{"min", {0.0, 0.0}}, {"max", {1.0, ly}}}},
+                 {"particles_per_cell", {1, 1}}}}},
+              {"plane_wave",
+               {{"wave", shear ? "s" : "p"}, {"cycles", {1, angled ? 1 : 0}}, {"amplitude", 1.0}}},
+              {"exact", "plane_wave"},
+              {"time", {{"end", 1.0 / (k * c)}, {"courant", 0.5}}}};
   if (method == "dgmpm") {
     doc["flux"] = flux;
     doc["time"]["integrator"] = integrator;
@@ -65,20 +67,17 @@ double stress_error(const json& doc) {
 BOOST_AUTO_TEST_CASE(plane_wave_errors_fall_at_first_order) {
   for (bool angled : {false, true})
     for (bool shear : {false, true})
-      for (const auto& [flux, integrator] :
-           {std::pair{"dcu", "euler"}, std::pair{"dcu", "rk2"}, std::pair{"ctu", "euler"},
-            std::pair{"ctu", "rk2"}}) {
-        BOOST_TEST_CONTEXT((angled ? "30 degrees" : "along x") << ", " << (shear ? "S" : "P")
-                                                               << ", " << flux << ", "
-                                                               << integrator) {
+      for (const auto& [flux, integrator] : {std::pair{"dcu", "euler"}, std::pair{"dcu", "rk2"},
+                                             std::pair{"ctu", "euler"}, std::pair{"ctu", "rk2"}}) {
+        BOOST_TEST_CONTEXT((angled ? "30 degrees" : "along x")
+                           << ", " << (shear ? "S" : "P") << ", " << flux << ", " << integrator) {
           std::vector<double> e;
           for (int n : {16, 32, 64})
             e.push_back(stress_error(plane_wave(shear, angled, n, "dgmpm", flux, integrator)));
           const double order = std::log2(e[1] / e[2]);
-          BOOST_TEST_MESSAGE((angled ? "30deg " : "x ") << (shear ? "S " : "P ") << flux << ' '
-                                                        << integrator << ": errors " << e[0]
-                                                        << ' ' << e[1] << ' ' << e[2]
-                                                        << ", order " << order);
+          BOOST_TEST_MESSAGE((angled ? "30deg " : "x ")
+                             << (shear ? "S " : "P ") << flux << ' ' << integrator << ": errors "
+                             << e[0] << ' ' << e[1] << ' ' << e[2] << ", order " << order);
           BOOST_TEST(e[1] < e[0]);
           BOOST_TEST(e[2] < e[1]);
           BOOST_TEST(order > 0.8);

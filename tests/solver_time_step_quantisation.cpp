@@ -1,11 +1,11 @@
 // Automatic time step (issue 4): the error that the cache's rounding of positions brings to C*.
 //
 // TimeStepControl analyses each cell's layout with its local positions rounded by
-// LayoutQuantisation::quantise_position: to q = 1/4096 (moving particles), except near a node, where
-// the distance d to the node keeps 8 significant bits, so a particle moves by
-// delta <= min(q / 2, d / 512); below d = q / 2 it is put on the node. This file measures
-// e = |C*(rounded layout) - C*(exact layout)| / C*(exact layout) against delta / g, g being the
-// smallest gap of the exact layout (particle to node, particle to particle).
+// LayoutQuantisation::quantise_position: to q = 1/4096 (moving particles), except near a node,
+// where the distance d to the node keeps 8 significant bits, so a particle moves by delta <= min(q
+// / 2, d / 512); below d = q / 2 it is put on the node. This file measures e = |C*(rounded layout)
+// - C*(exact layout)| / C*(exact layout) against delta / g, g being the smallest gap of the exact
+// layout (particle to node, particle to particle).
 //
 // Measured on random 2-4 particle layouts (seed 7: 6000 for l2, 36000 for monotone; 40 % of the
 // positions within 0.05 of a node, down to sub-quantum distances; masses equal or in [0.5, 2]):

@@ -30,7 +30,9 @@ namespace dgmpm {
 // Donor-cell upwind (normal Riemann problems only) or corner transport upwind.
 enum class FluxScheme { dcu, ctu };
 
-inline const char* to_string(FluxScheme f) { return f == FluxScheme::ctu ? "ctu" : "dcu"; }
+inline const char* to_string(FluxScheme f) {
+  return f == FluxScheme::ctu ? "ctu" : "dcu";
+}
 
 template <class Physics>
 class DGOperator {
@@ -147,8 +149,8 @@ class DGOperator {
         if (fc.kind != BoundaryKind::traction && fc.kind != BoundaryKind::velocity) continue;
         State star;
         if (!face_star(l, f, qn, t, star)) continue;
-        const int c = face_cells_[l][f].first >= 0 ? face_cells_[l][f].first
-                                                   : face_cells_[l][f].second;
+        const int c =
+            face_cells_[l][f].first >= 0 ? face_cells_[l][f].first : face_cells_[l][f].second;
         const double sign = face_cells_[l][f].first >= 0 ? 1.0 : -1.0;  // outward normal
         power += sign * edge_length(l) *
                  traction_power(Physics::flux(l, star, disc_.cell_material(c)), star);
@@ -325,13 +327,13 @@ class DGOperator {
         const auto [cm, cp] = face_cells_[l][f];
         if (occupied(cm)) {
           const auto& mat = disc_.cell_material(cm);
-          spread_transverse(
-              cm, l, k * Physics::fluctuation(l, star, edge_state(qn, cm, l, 1), mat, 0));
+          spread_transverse(cm, l,
+                            k * Physics::fluctuation(l, star, edge_state(qn, cm, l, 1), mat, 0));
         }
         if (occupied(cp)) {
           const auto& mat = disc_.cell_material(cp);
-          spread_transverse(
-              cp, l, k * Physics::fluctuation(l, star, edge_state(qn, cp, l, 0), mat, 1));
+          spread_transverse(cp, l,
+                            k * Physics::fluctuation(l, star, edge_state(qn, cp, l, 0), mat, 1));
         }
       }
     }

@@ -8,7 +8,9 @@ namespace dgmpm {
 
 enum class TimeScheme { euler, rk2 };
 
-inline const char* to_string(TimeScheme s) { return s == TimeScheme::euler ? "euler" : "rk2"; }
+inline const char* to_string(TimeScheme s) {
+  return s == TimeScheme::euler ? "euler" : "rk2";
+}
 
 template <class Physics>
 class ForwardEuler {

@@ -80,8 +80,7 @@ struct PlaneStrain {
   // Mass-weighted blend of the Lame moduli and density, for cells holding several materials.
   static Material blend(const Material& a, double ma, const Material& b, double mb) {
     const double w = mb / (ma + mb);
-    return Material::from_lame((1 - w) * a.lambda() + w * b.lambda(),
-                               (1 - w) * a.mu() + w * b.mu(),
+    return Material::from_lame((1 - w) * a.lambda() + w * b.lambda(), (1 - w) * a.mu() + w * b.mu(),
                                (1 - w) * a.density + w * b.density);
   }
   static double max_wave_speed(const Material& m) { return m.p_speed(); }
