@@ -26,13 +26,16 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--seconds", args->seconds,
                   "Time spent per case (and per auto time step cost measurement)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--what", args->what, "Benchmarks to run: solver, courant")
+  cmd->add_option("--what", args->what,
+                  "Benchmarks to run: solver, courant (default both), plate (2D; give "
+                  "--particles 10000,100000,1000000)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"solver", "courant"}));
+      ->check(CLI::IsMember({"solver", "courant", "plate"}));
   cmd->callback([args] {
     for (const auto& w : args->what) {
       if (w == "solver") run_solver_benchmark(std::cout, args->particles, args->seconds);
       if (w == "courant") run_courant_benchmark(std::cout);
+      if (w == "plate") run_plate_benchmark(std::cout, args->particles, args->seconds);
     }
   });
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <dgmpm/discretisation.hpp>
 #include <iomanip>
+#include <malloc.h>
 #include <nlohmann/json.hpp>
 
 namespace dgmpm::bench {
@@ -146,6 +147,64 @@ void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_co
                              sim.time_step_control()->layouts_analysed(), sim.particles()});
     }
   if (!auto_runs.empty()) print_time_step_cost(out, auto_runs, seconds);
+}
+
+namespace {
+
+// The founding paper's plate (4 m x 3 m, -2e8 Pa on the lower metre of the left edge, other
+// edges free) with about `particles` particles: square-ish cells, ppc per axis 1 or 2.
+scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
+                         const std::string& integrator) {
+  const double per_cell = ppc_axis * ppc_axis;
+  const int nx = std::max(1, static_cast<int>(std::lround(std::sqrt(particles / per_cell * 4 / 3))));
+  const int ny = std::max(1, static_cast<int>(std::lround(nx * 0.75)));
+  nlohmann::json doc = {
+      {"dimension", 2},
+      {"flux", flux},
+      {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {4.0 / nx, 3.0 / ny}}, {"cells", {nx, ny}}}},
+      {"materials", {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}}}},
+      {"bodies",
+       {{{"material", "steel"},
+         {"box", {{"min", {0.0, 0.0}}, {"max", {4.0, 3.0}}}},
+         {"particles_per_cell", {ppc_axis, ppc_axis}}}}},
+      {"boundaries",
+       {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 0.0}}, {"range", {0.0, 1.0}}}}}}},
+      {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}}}};
+  return scene::parse_scene(doc, "bench plate");
+}
+
+// Bytes the heap holds now (glibc: arena bytes in use plus mmapped blocks).
+double heap_bytes() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd);
+}
+
+}  // namespace
+
+void run_plate_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
+                         double seconds) {
+  out << "2D plate throughput (one core, DGMPM, Courant 0.5) and heap bytes per particle\n";
+  out << std::left << std::setw(6) << "flux" << std::setw(7) << "time" << std::setw(5) << "ppc"
+      << std::right << std::setw(12) << "particles" << std::setw(20) << "particle-steps/s"
+      << std::setw(16) << "bytes/particle" << '\n';
+  for (int ppc_axis : {1, 2})
+    for (const char* flux : {"dcu", "ctu"})
+      for (const char* integrator : {"euler", "rk2"})
+        for (int n : particle_counts) {
+          const scene::Scene scene = plate_scene(n, ppc_axis, flux, integrator);
+          const double before = heap_bytes();
+          PlaneStrainSimulation sim(scene);
+          const double dt = sim.stable_time_step();
+          sim.step(dt);  // every buffer allocated
+          const double bytes = (heap_bytes() - before) / sim.particles().size();
+          const double rate =
+              best_calls_per_second([&] { sim.step(dt); }, seconds) * sim.particles().size();
+          out << std::left << std::setw(6) << flux << std::setw(7) << integrator << std::setw(5)
+              << ppc_axis * ppc_axis << std::right << std::setw(12) << sim.particles().size()
+              << std::setw(20) << std::scientific << std::setprecision(3) << rate
+              << std::defaultfloat << std::setw(16) << std::fixed << std::setprecision(0) << bytes
+              << std::defaultfloat << '\n';
+        }
 }
 
 }  // namespace dgmpm::bench
