@@ -156,7 +156,8 @@ namespace {
 scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
                          const std::string& integrator) {
   const double per_cell = ppc_axis * ppc_axis;
-  const int nx = std::max(1, static_cast<int>(std::lround(std::sqrt(particles / per_cell * 4 / 3))));
+  const int nx =
+      std::max(1, static_cast<int>(std::lround(std::sqrt(particles / per_cell * 4 / 3))));
   const int ny = std::max(1, static_cast<int>(std::lround(nx * 0.75)));
   nlohmann::json doc = {
       {"dimension", 2},

@@ -4,8 +4,8 @@ particle drawn as a filled cell-sized square, side by side with one shared colou
 
     python3 reports/plot_fields_2d.py OUT_DIR --field sigma_xx --times 5e-4 1e-3 -o plate.png
 
-The times are matched to the run's outputs (energy.csv is not needed: each CSV's time comes from
-summary.json's file order and the scene's output times, so pass --scene too), or pass --files.
+--times picks, for each time asked, the scene's nearest output time (particles_NNN.csv is the
+NNN-th output time in increasing order); or pass --files (with --labels for the panel titles).
 """
 import argparse
 import csv
@@ -33,6 +33,9 @@ def main():
     p.add_argument("--scene", help="the scene file (output times, cell size)")
     p.add_argument("--times", type=float, nargs="+", help="output times to plot (needs --scene)")
     p.add_argument("--files", nargs="+", help="particle CSV names instead of --times")
+    p.add_argument("--labels", nargs="+", help="panel titles for --files")
+    p.add_argument("--cell", type=float, nargs=2, metavar=("DX", "DY"),
+                   help="cell size (default: from --scene, else the smallest particle spacing)")
     p.add_argument("--field", default="sigma_xx")
     p.add_argument("--scale", type=float, default=1e-6, help="multiplies the field (MPa: 1e-6)")
     p.add_argument("--unit", default="MPa")
@@ -46,17 +49,17 @@ def main():
         with open(a.scene) as f:
             scene = json.load(f)
         cell = scene["grid"]["cell_size"]
+    if a.cell:
+        cell = a.cell
     if a.files:
         files = [os.path.join(a.directory, f) for f in a.files]
-        labels = a.files
+        labels = a.labels if a.labels and len(a.labels) == len(a.files) else a.files
     else:
         if not (a.scene and a.times):
             sys.exit("plot_fields_2d.py: give --scene with --times, or --files")
         out_times = sorted(scene["output"]["times"])
         for t in a.times:
             k = min(range(len(out_times)), key=lambda i: abs(out_times[i] - t))
-            if abs(out_times[k] - t) > 1e-9 * max(1.0, abs(t)):
-                sys.exit(f"plot_fields_2d.py: {t} is not an output time of the scene")
             files.append(os.path.join(a.directory, f"particles_{k:03d}.csv"))
             labels.append(f"t = {out_times[k]:.3g} s")
     data = [read(f) for f in files]
@@ -65,15 +68,17 @@ def main():
     hi = max(max(v) for v in values)
     if lo == hi:
         hi = lo + 1
-    fig, axes = plt.subplots(1, len(files), figsize=(4.6 * len(files), 4.2), squeeze=False)
+    fig, axes = plt.subplots(1, len(files), figsize=(4.8 * len(files), 4.0), squeeze=False,
+                             constrained_layout=True)
     cmap = plt.get_cmap("viridis")
     norm = matplotlib.colors.Normalize(vmin=lo, vmax=hi)
     for ax, d, v, label in zip(axes[0], data, values, labels):
         xs, ys = d["x"], d["y"]
         if cell is None:
-            dx = min(abs(xs[i] - xs[j]) for i in range(min(50, len(xs))) for j in range(i)
-                     if xs[i] != xs[j])
-            h = (dx, dx)
+            def spacing(v):
+                u = sorted(set(v))
+                return min(b - a for a, b in zip(u, u[1:])) if len(u) > 1 else 1.0
+            h = (spacing(xs), spacing(ys))
         else:
             h = cell
         squares = [Rectangle((x - h[0] / 2, y - h[1] / 2), h[0], h[1]) for x, y in zip(xs, ys)]
@@ -90,7 +95,7 @@ def main():
     cb.set_label(f"{a.field} ({a.unit})")
     if a.title:
         fig.suptitle(a.title)
-    fig.savefig(a.output, dpi=120, bbox_inches="tight")
+    fig.savefig(a.output, dpi=120)
 
 
 if __name__ == "__main__":
