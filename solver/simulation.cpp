@@ -195,12 +195,10 @@ void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
   }
 }
 
-// Power of the boundary loads on the current particle state (projected to the nodes).
+// Power of the boundary loads on the current particle state.
 template <class Physics>
-double Simulation<Physics>::load_power() {
-  const auto& op = stepper_->op();
-  op.project(problem_.particles.state, problem_.particles.mass, nodal_);
-  return op.boundary_power(nodal_, time_);
+double Simulation<Physics>::load_power() const {
+  return stepper_->op().boundary_power(problem_.particles.state, problem_.particles.mass, time_);
 }
 
 template <class Physics>

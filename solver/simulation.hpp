@@ -133,7 +133,7 @@ class Simulation final : public SimulationBase {
   void check_finite() const;
   void warn_if_above_admissible();
   void warn_if_overfull_cell(long step, double t);
-  double load_power();
+  double load_power() const;
   void write_particles(const std::string& path) const;
 
   scene::Scene scene_;
@@ -145,7 +145,6 @@ class Simulation final : public SimulationBase {
   std::vector<std::string> warnings_;
   double time_ = 0, dt_ = 0, work_ = 0, power_ = 0;
   bool loaded_ = false;  // some boundary does work (traction or velocity)
-  typename DGOperator<Physics>::NodalField nodal_;  // scratch of load_power
   long steps_ = 0;
   bool overfull_warned_ = false;
 };

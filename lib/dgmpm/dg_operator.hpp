@@ -75,12 +75,7 @@ class DGOperator {
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
       auto block = qn.template middleCols<npc>(c * npc);
-      for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e) {
-        const int p = disc_.entry_particle(e);
-        block.noalias() += (mass[p] * qp.col(p)) * disc_.entry_shape(e).transpose();
-      }
-      for (int a = 0; a < npc; ++a) block.col(a) *= disc_.inverse_mass(c * npc + a);
-      copy_massless(c, qn);
+      project_cell(c, qp, mass, block);
     }
   }
 
@@ -137,24 +132,32 @@ class DGOperator {
   }
 
   // Power delivered to the particles by the prescribed boundary loads at time t: the sum over
-  // loaded boundary edges of (star traction . star velocity) times the edge length, for the
-  // nodal state qn. Used for the work done by the loads (energy balance).
-  double boundary_power(const NodalField& qn, double t) const {
+  // loaded boundary edges (traction, velocity) of (sigma* n) . v* times the edge length, from
+  // the particle states qp projected onto those edges' cells only (no pass over the others).
+  double boundary_power(const ParticleField& qp, const Eigen::VectorXd& mass, double t) const {
     double power = 0.0;
-    for (int l = 0; l < dim; ++l)
-      for (int f = 0; f < num_faces(l); ++f) {
-        const int b = face_boundary_[l][f];
-        if (b < 0) continue;
-        const FaceCondition& fc = conditions_[b];
-        if (fc.kind != BoundaryKind::traction && fc.kind != BoundaryKind::velocity) continue;
-        State star;
-        if (!face_star(l, f, qn, t, star)) continue;
-        const int c =
-            face_cells_[l][f].first >= 0 ? face_cells_[l][f].first : face_cells_[l][f].second;
-        const double sign = face_cells_[l][f].first >= 0 ? 1.0 : -1.0;  // outward normal
-        power += sign * edge_length(l) *
-                 traction_power(Physics::flux(l, star, disc_.cell_material(c)), star);
-      }
+    Eigen::Matrix<double, ncomp, npc> q;
+    for (const auto& [l, f] : loaded_faces_) {
+      const auto [cm, cp] = face_cells_[l][f];
+      const int c = cm >= 0 ? cm : cp;
+      if (!disc_.occupied(c)) continue;
+      project_cell(c, qp, mass, q);
+      const int side = cm >= 0 ? 1 : 0;  // the cell's side the edge is on
+      State e = State::Zero();
+      for (int a = 0; a < npc; ++a)
+        if (((a >> l) & 1) == side) e += q.col(a);
+      e *= 1.0 / face_nodes;
+      const auto& mat = disc_.cell_material(c);
+      const FaceCondition& fc = conditions_[face_boundary_[l][f]];
+      const State g = Physics::ghost(fc.kind, condition_value(fc, t), l, e, mat);
+      const State star =
+          side ? Physics::riemann(l, e, mat, g, mat) : Physics::riemann(l, g, mat, e, mat);
+      // -F_n's momentum rows are sigma* e_l; along the outward normal (+-e_l), times v*.
+      const State fl = Physics::flux(l, star, mat);
+      double p = 0;
+      for (int k = 0; k < dim; ++k) p -= fl[ncomp - dim + k] * star[ncomp - dim + k];
+      power += (side ? 1.0 : -1.0) * edge_length(l) * p;
+    }
     return power;
   }
 
@@ -167,11 +170,23 @@ class DGOperator {
 
   double edge_length(int l) const { return face_weight_[l] * face_nodes; }
 
-  // -F_n's momentum rows are sigma* e_l; times v* (the state's last dim components).
-  static double traction_power(const State& f, const State& star) {
-    double p = 0;
-    for (int k = 0; k < dim; ++k) p += -f[ncomp - dim + k] * star[ncomp - dim + k];
-    return p;
+  // Cell c's nodal states from its particles (block: its npc columns, set here).
+  template <class Block>
+  void project_cell(int c, const ParticleField& qp, const Eigen::VectorXd& mass,
+                    Block&& block) const {
+    block.setZero();
+    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e) {
+      const int p = disc_.entry_particle(e);
+      block.noalias() += (mass[p] * qp.col(p)) * disc_.entry_shape(e).transpose();
+    }
+    for (int a = 0; a < npc; ++a) {
+      const int i = c * npc + a, s = disc_.node_source(i);
+      if (s == i) block.col(a) *= disc_.inverse_mass(i);
+    }
+    for (int a = 0; a < npc; ++a) {
+      const int i = c * npc + a, s = disc_.node_source(i);
+      if (s != i) block.col(a) = block.col(s - c * npc);
+    }
   }
 
   void copy_massless(int c, NodalField& q) const {
@@ -249,6 +264,8 @@ class DGOperator {
     fc.end = static_cast<int>(parts_.size());
     face_boundary_[l][f] = static_cast<int>(conditions_.size());
     conditions_.push_back(fc);
+    if (fc.kind == BoundaryKind::traction || fc.kind == BoundaryKind::velocity)
+      loaded_faces_.emplace_back(l, f);
   }
 
   Vec condition_value(const FaceCondition& fc, double t) const {
@@ -371,6 +388,7 @@ class DGOperator {
   std::array<std::vector<int>, dim> face_boundary_;               // -> conditions_, or -1
   std::vector<FaceCondition> conditions_;
   std::vector<std::pair<const Table*, double>> parts_;
+  std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity
   // CTU only: star states and transverse corrections of the faces of each axis.
   mutable std::array<NodalField, dim> star_, correction_;
 };
