@@ -267,6 +267,74 @@ BOOST_AUTO_TEST_CASE(a_partly_covered_edge_receives_the_exact_force) {
       }
 }
 
+// Velocity and fixed edges: a block at rest driven at v0 along x by its left edge, and a block
+// moving at -v0 along y into a fixed bottom edge: the P plateau sigma_nn = -Z_p v0 (with
+// sigma_tt = lambda / (lambda + 2 mu) sigma_nn), exact at c_p dt / dx = 1 behind the front.
+BOOST_AUTO_TEST_CASE(velocity_and_fixed_edges_give_the_1d_plateaus) {
+  const double v0 = 4.0, h = 0.1, z = steel.p_impedance();
+  for (const auto& [flux, integrator] : {std::pair{"dcu", "rk2"}, std::pair{"ctu", "euler"}})
+    for (int axis = 0; axis < 2; ++axis) {
+      BOOST_TEST_CONTEXT(flux << ", " << integrator << ", axis " << axis) {
+        json doc = blocks(axis, false, 10, 3, flux, integrator, 1.0, 1.0);
+        doc["bodies"].erase(1);
+        doc["bodies"][0]["box"]["max"][axis] = 2.0;
+        json v = {0.0, 0.0};
+        const char* side = axis == 0 ? "xmin" : "ymin";
+        if (axis == 0) {
+          v[0] = v0;  // driven edge, body at rest
+          doc["boundaries"] = {{side, {{"type", "velocity"}, {"value", v}}}};
+          doc["bodies"][0]["velocity"] = {0.0, 0.0};
+        } else {
+          doc["boundaries"] = {{side, {{"type", "fixed"}}}};
+          v[1] = -v0;  // moving into the wall
+          doc["bodies"][0]["velocity"] = v;
+        }
+        PlaneStrainSimulation sim(scene::parse_scene(doc));
+        const int steps = 12;
+        for (int k = 0; k < steps; ++k) sim.step(h / steel.p_speed());
+        const auto st = sim.physical_state();
+        const auto& x = sim.particles().position;
+        const int nn = axis == 0 ? PS::sxx : PS::syy, tt = axis == 0 ? PS::syy : PS::sxx;
+        double err = 0;
+        for (int p = 0; p < sim.particles().size(); ++p) {
+          const bool behind = x(axis, p) < steps * h;
+          const double s_exact = behind ? -z * v0 : 0.0;
+          const double v_exact = axis == 0 ? (behind ? v0 : 0.0) : (behind ? 0.0 : -v0);
+          err = std::max(
+              {err, std::abs(st(nn, p) - s_exact) / (z * v0),
+               std::abs(st(tt, p) - steel.lambda() / steel.p_modulus() * s_exact) / (z * v0),
+               std::abs(st(PS::vx + axis, p) - v_exact) / v0});
+        }
+        BOOST_TEST(err < 1e-10, "max relative error " << err);
+      }
+    }
+}
+
+// A traction given as a time table, normal and shear: the momentum gained is the impulse of the
+// table as each integrator samples it (Euler at t_n; RK2 the mean of t_n and t_n + dt).
+BOOST_AUTO_TEST_CASE(traction_time_tables_deliver_their_impulse) {
+  const double ramp = 1e-4, normal = -2e8, shear = 5e7;
+  const auto table = [&](double t) { return std::min(t, ramp) / ramp; };
+  for (const char* integrator : {"euler", "rk2"}) {
+    BOOST_TEST_CONTEXT(integrator) {
+      json doc = plate("dcu", integrator, 0.5, 1e-3, false);
+      doc["boundaries"]["xmin"][0]["value"] = {{0.0, {0.0, 0.0}}, {ramp, {normal, shear}}};
+      PlaneStrainSimulation sim(scene::parse_scene(doc));
+      const double dt = sim.stable_time_step();
+      double impulse = 0;
+      for (int k = 0; k < 8; ++k) {
+        const double t = k * dt;
+        impulse += std::string(integrator) == "euler" ? dt * table(t)
+                                                      : 0.5 * dt * (table(t) + table(t + dt));
+        sim.step(dt);
+      }
+      // The left edge's outward normal is -x: the body receives -sigma e_x per metre loaded.
+      BOOST_TEST(momentum(sim, 0).sum() == -normal * impulse, boost::test_tools::tolerance(1e-11));
+      BOOST_TEST(momentum(sim, 1).sum() == -shear * impulse, boost::test_tools::tolerance(1e-11));
+    }
+  }
+}
+
 // MPM runs the 2D plate: finite fields of the right order (the loaded corner near -2e8 Pa).
 BOOST_AUTO_TEST_CASE(mpm_runs_the_plate) {
   for (const char* method : {"mpm-usl", "mpm-usf", "mpm-musl"}) {
