@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 namespace dgmpm::stability {
 
@@ -31,11 +32,14 @@ CourantResult admissible_courant(const OneStepMap& map, Criterion criterion,
     options.margin_tolerance = std::max(options.margin_tolerance, map.round_off_level());
   if (criterion == Criterion::l2) {
     L2Criterion l2(map);
+    if (map.setting.dim > 1)
+      options.margin_tolerance = std::max(options.margin_tolerance, kL2MarginTolerance2D);
     s = search_admissible_courant([&](double c) { return l2.margin(c).value; }, options);
     if (s.bounded) {
       const L2Margin m = l2.margin(s.failing_courant);
       r.direction = map.families[m.family].direction;
       r.critical_theta = m.theta;
+      r.critical_theta_y = m.theta_y;
     }
   } else {
     s = search_admissible_courant([&](double c) { return monotone_margin(map, c).value; }, options);
@@ -57,6 +61,16 @@ CourantResult admissible_courant(const OneStepMap& map, Criterion criterion,
 CourantResult admissible_courant(const CellLayout& layout, TimeScheme scheme, Criterion criterion,
                                  Model model) {
   return admissible_courant(build_one_step_map(layout, scheme, model), criterion,
+                            default_search_options(criterion));
+}
+
+CourantResult admissible_courant(const CellLayout& layout, const AnalysisSetting& setting,
+                                 Criterion criterion) {
+  if (setting.dim > 1 && setting.model == Model::elastic && criterion == Criterion::monotone)
+    throw std::invalid_argument(
+        "the monotone criterion needs scalar waves: the 2D elastic system does not split into "
+        "them (use --criterion l2, or --model advection)");
+  return admissible_courant(build_one_step_map(layout, setting), criterion,
                             default_search_options(criterion));
 }
 

@@ -17,9 +17,10 @@ struct CourantResult {
   // What fails first, at failing_courant, just above C*:
   double failing_courant = 0.0;
   std::string direction;  // failing wave family: "+x", "-x" ("both" if the map did not decouple)
-  double critical_theta = 0;   // L2: wavenumber in [0, pi] of the first failing Fourier mode
-  int limiting_particle = -1;  // monotone: index into the layout's positions
-  int evaluations = 0;         // criterion evaluations of the search
+  double critical_theta = 0;    // L2: wavenumber in [0, pi] of the first failing Fourier mode
+  double critical_theta_y = 0;  // 2D: its y wavenumber, in (-pi, pi]
+  int limiting_particle = -1;   // monotone: index into the layout's positions
+  int evaluations = 0;          // criterion evaluations of the search
 };
 
 // Scan step, tolerance and margin tolerance of each criterion.
@@ -32,5 +33,9 @@ CourantResult admissible_courant(const OneStepMap& map, Criterion criterion,
 // std::invalid_argument for an invalid layout.
 CourantResult admissible_courant(const CellLayout& layout, TimeScheme scheme, Criterion criterion,
                                  Model model = Model::elastic);
+// Any dimension. 2D elastic: L2 only (the system does not split into scalar waves, which the
+// monotone criterion needs): std::invalid_argument for monotone.
+CourantResult admissible_courant(const CellLayout& layout, const AnalysisSetting& setting,
+                                 Criterion criterion);
 
 }  // namespace dgmpm::stability

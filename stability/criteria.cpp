@@ -7,7 +7,12 @@
 #include <cmath>
 #include <complex>
 #include <gsl/gsl_min.h>
+#include <gsl/gsl_multimin.h>
+
+#include <algorithm>
+#include <limits>
 #include <numbers>
+#include <vector>
 
 namespace dgmpm::stability {
 namespace {
@@ -23,7 +28,8 @@ double radius_2x2(Complex a, Complex b, Complex c, Complex d) {
 
 }  // namespace
 
-FamilySpectrum::FamilySpectrum(const StencilFamily& family) : offsets_(family.offsets) {
+FamilySpectrum::FamilySpectrum(const StencilFamily& family)
+    : offsets_(family.offsets), offsets_y_(family.offsets_y) {
   const int n = family.size;
   Eigen::MatrixXd stacked(n, 0);
   for (const auto& by_power : family.coefficients)
@@ -78,6 +84,27 @@ double FamilySpectrum::radius(Complex phase) const {
   Eigen::MatrixXcd g = Eigen::MatrixXcd::Zero(rank_, rank_);
   for (std::size_t i = 0; i < offsets_.size(); ++i)
     g += power(offsets_[i]) * at_courant_[i].cast<Complex>();
+  return Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(g, false).eigenvalues().cwiseAbs().maxCoeff();
+}
+
+double FamilySpectrum::radius(double theta_x, double theta_y) const {
+  return radius(std::polar(1.0, -theta_x), std::polar(1.0, -theta_y));
+}
+
+double FamilySpectrum::radius(Complex phase_x, Complex phase_y) const {
+  if (rank_ == 0) return 0.0;
+  const auto power = [](Complex phase, int d) {
+    Complex p = 1.0;
+    const Complex f = d >= 0 ? phase : std::conj(phase);
+    for (int k = 0; k < std::abs(d); ++k) p *= f;
+    return p;
+  };
+  Eigen::MatrixXcd g = Eigen::MatrixXcd::Zero(rank_, rank_);
+  for (std::size_t i = 0; i < offsets_.size(); ++i)
+    g += (power(phase_x, offsets_[i]) * power(phase_y, offsets_y_[i])) *
+         at_courant_[i].cast<Complex>();
+  if (rank_ == 1) return std::abs(g(0, 0));
+  if (rank_ == 2) return radius_2x2(g(0, 0), g(0, 1), g(1, 0), g(1, 1));
   return Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(g, false).eigenvalues().cwiseAbs().maxCoeff();
 }
 
@@ -173,27 +200,177 @@ L2Margin family_margin(FamilySpectrum& spectrum, double courant) {
   return {best, best_theta, 0};
 }
 
+// --- 2D ---------------------------------------------------------------------------------------
+// The symbol is even (rho(-theta) = rho(theta)), so the half torus theta_x in [0, pi],
+// theta_y in (-pi, pi] is scanned: kScan2D + 1 by 2 kScan2D points. The margin there is
+// (rho - 1) / s, s = 2 - cos theta_x - cos theta_y (|theta|^2 / 2 near 0). Below |theta| =
+// 2 kSmall2D the margin loses digits (rho - 1 ~ |theta|^2, eigenvalues of nearly coincident
+// modes carry errors near 1e-12), so along each of kRays2D directions it is replaced by its
+// quadratic model through the Richardson limit at 0 (from kSmall2D and 2 kSmall2D) and the value
+// at 2 kSmall2D, as in 1D. The largest local maxima of the scan are refined by a simplex.
+//
+// Elasticity has a zero-speed mode along each axis (sigma_yy for waves along x, sigma_xx along
+// y), so rho = 1 on the whole lines theta_x = 0 and theta_y = 0, not only at the origin. Off
+// those lines rho - 1 may grow linearly, a theta - b theta^2: a weak instability (at most
+// a^2 / (4 b) per step) confined to theta ~ a / (2 b), far below the scan's spacing (one
+// particle off the centre on both axes under RK2: a ~ 0.016 C^3 per radian). Where rho = 1 on a
+// line, its one-sided slope off the line, a, is a margin of its own (per radian, from kLine2D
+// and 2 kLine2D).
+constexpr int kScan2D = 16;
+constexpr int kRays2D = 16;
+constexpr double kSmall2D = 0.05;
+constexpr int kRefined2D = 4;
+constexpr double kLine2D = 1e-3;
+
+struct TorusProfile {
+  const FamilySpectrum& spectrum;
+
+  static double s_of(double tx, double ty) {
+    const double a = std::sin(0.5 * tx), b = std::sin(0.5 * ty);
+    return 2.0 * (a * a + b * b);
+  }
+  double direct(double tx, double ty) const {
+    return (spectrum.radius(tx, ty) - 1.0) / s_of(tx, ty);
+  }
+  // Richardson limit at 0 along the direction phi, and the value at 2 kSmall2D on it.
+  std::pair<double, double> ray(double phi) const {
+    const double c = std::cos(phi), s = std::sin(phi);
+    const double near = direct(kSmall2D * c, kSmall2D * s);
+    const double far = direct(2 * kSmall2D * c, 2 * kSmall2D * s);
+    return {(4.0 * near - far) / 3.0, far};
+  }
+  double operator()(double tx, double ty) const {
+    const double r = std::hypot(tx, ty);
+    if (r >= 2.0 * kSmall2D) return direct(tx, ty);
+    const auto [limit, far] = ray(std::atan2(ty, tx));
+    const double t = r / (2.0 * kSmall2D);
+    return limit + (far - limit) * t * t;
+  }
+};
+
+double negated_torus(const gsl_vector* x, void* profile) {
+  return -(*static_cast<const TorusProfile*>(profile))(gsl_vector_get(x, 0), gsl_vector_get(x, 1));
+}
+
+void refine_torus_maximum(const TorusProfile& profile, double tx, double ty, double step,
+                          L2Margin& best) {
+  GslErrorsAsCodes guard;
+  gsl_multimin_function f{&negated_torus, 2, const_cast<TorusProfile*>(&profile)};
+  gsl_vector* x = gsl_vector_alloc(2);
+  gsl_vector* steps = gsl_vector_alloc(2);
+  gsl_vector_set(x, 0, tx);
+  gsl_vector_set(x, 1, ty);
+  gsl_vector_set_all(steps, 0.5 * step);
+  gsl_multimin_fminimizer* m = gsl_multimin_fminimizer_alloc(gsl_multimin_fminimizer_nmsimplex2, 2);
+  if (gsl_multimin_fminimizer_set(m, &f, x, steps) == GSL_SUCCESS) {
+    for (int it = 0; it < 80; ++it) {
+      if (gsl_multimin_fminimizer_iterate(m) != GSL_SUCCESS) break;
+      if (gsl_multimin_test_size(gsl_multimin_fminimizer_size(m), 1e-6) == GSL_SUCCESS) break;
+    }
+    const double value = -gsl_multimin_fminimizer_minimum(m);
+    if (value > best.value) {
+      best.value = value;
+      best.theta = gsl_vector_get(m->x, 0);
+      best.theta_y = gsl_vector_get(m->x, 1);
+    }
+  }
+  gsl_multimin_fminimizer_free(m);
+  gsl_vector_free(steps);
+  gsl_vector_free(x);
+}
+
+L2Margin torus_margin(FamilySpectrum& spectrum, double courant) {
+  spectrum.set_courant(courant);
+  const TorusProfile profile{spectrum};
+  L2Margin best{-std::numeric_limits<double>::infinity(), 0.0, 0.0, 0};
+  // Long waves: the limit at 0 along each direction of the half plane.
+  for (int k = 0; k < kRays2D; ++k) {
+    const double phi = -0.5 * std::numbers::pi + std::numbers::pi * k / kRays2D;
+    const double limit = profile.ray(phi).first;
+    if (limit > best.value) best = {limit, 0.0, 0.0, 0};
+  }
+  const double h = std::numbers::pi / kScan2D;
+  const int nx = kScan2D + 1, ny = 2 * kScan2D;
+  std::vector<double> values(static_cast<std::size_t>(nx * ny));
+  const auto at = [&](int i, int j) -> double& {
+    return values[static_cast<std::size_t>(i * ny + ((j % ny) + ny) % ny)];
+  };
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      const double tx = i * h, ty = (j - kScan2D + 1) * h;
+      at(i, j) = std::hypot(tx, ty) < 2.0 * kSmall2D ? profile(tx, ty) : profile.direct(tx, ty);
+    }
+  // Local maxima (8 neighbours; theta_y wraps, theta_x is mirrored at 0 and pi), largest first.
+  std::vector<std::pair<double, std::pair<int, int>>> maxima;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      const double v = at(i, j);
+      bool is_max = true;
+      for (int di = -1; di <= 1 && is_max; ++di)
+        for (int dj = -1; dj <= 1; ++dj) {
+          if (!di && !dj) continue;
+          int ii = i + di, jj = j + dj;
+          if (ii < 0 || ii >= nx) {  // mirror: rho(-tx, -ty) = rho(tx, ty), tx = pi + h ~ -(pi - h)
+            ii = ii < 0 ? -ii : 2 * kScan2D - ii;
+            jj = 2 * (kScan2D - 1) - jj;
+          }
+          if (at(ii, jj) > v) {
+            is_max = false;
+            break;
+          }
+        }
+      if (is_max) maxima.push_back({v, {i, j}});
+      if (v > best.value) best = {v, i * h, (j - kScan2D + 1) * h, 0};
+    }
+  std::sort(maxima.begin(), maxima.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (std::size_t k = 0; k < maxima.size() && k < kRefined2D; ++k) {
+    const auto [i, j] = maxima[k].second;
+    refine_torus_maximum(profile, i * h, (j - kScan2D + 1) * h, h, best);
+  }
+  // The neutral lines: slope of rho off theta_x = 0 (toward theta_x > 0) and off theta_y = 0
+  // (both ways, theta_x in [0, pi] only), where rho = 1 on the line.
+  const auto slope = [&](double tx, double ty, double dx, double dy) {
+    const double f0 = spectrum.radius(tx, ty) - 1.0;
+    if (f0 < -1e-10) return -std::numeric_limits<double>::infinity();
+    const double f1 = spectrum.radius(tx + dx, ty + dy) - 1.0;
+    const double f2 = spectrum.radius(tx + 2 * dx, ty + 2 * dy) - 1.0;
+    return (4.0 * f1 - f2 - 3.0 * f0) / (2.0 * kLine2D);
+  };
+  for (int j = 0; j < ny; ++j) {
+    const double t = (j - kScan2D + 1) * h;
+    if (std::abs(t) < 2.0 * kSmall2D) continue;  // the origin is the rays' business
+    if (const double a = slope(0.0, t, kLine2D, 0.0); a > best.value) best = {a, kLine2D, t, 0};
+    if (t > 0)
+      for (double dy : {kLine2D, -kLine2D})
+        if (const double a = slope(t, 0.0, 0.0, dy); a > best.value) best = {a, t, dy, 0};
+  }
+  best.theta = std::abs(best.theta);
+  return best;
+}
+
 }  // namespace
 
-L2Criterion::L2Criterion(const OneStepMap& map) {
+L2Criterion::L2Criterion(const OneStepMap& map) : dim_(map.setting.dim) {
   for (const auto& f : map.families) families_.emplace_back(f);
 }
 
 L2Margin L2Criterion::margin(double courant) {
   L2Margin worst;
   for (std::size_t f = 0; f < families_.size(); ++f) {
-    L2Margin m = family_margin(families_[f], courant);
+    L2Margin m =
+        dim_ == 1 ? family_margin(families_[f], courant) : torus_margin(families_[f], courant);
     m.family = static_cast<int>(f);
     if (f == 0 || m.value > worst.value) worst = m;
   }
   return worst;
 }
 
-double L2Criterion::spectral_radius(double courant, double theta) {
+double L2Criterion::spectral_radius(double courant, double theta, double theta_y) {
   double rho = 0.0;
   for (auto& f : families_) {
     f.set_courant(courant);
-    rho = std::max(rho, f.radius(theta));
+    rho = std::max(rho, dim_ == 1 ? f.radius(theta) : f.radius(theta, theta_y));
   }
   return rho;
 }

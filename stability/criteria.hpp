@@ -1,7 +1,8 @@
 #pragma once
-// The two stability criteria of method.md 5, as margins: a Courant number passes when the margin
-// is at most the criterion's tolerance (round-off), fails when it is above.
+// The two stability criteria (docs/method.md, "Stability"), as margins: a Courant number passes
+// when the margin is at most the criterion's tolerance (round-off), fails when it is above.
 //   L2:        max over theta of (rho(G(theta)) - 1) / (1 - cos theta)
+//              (2D: over the torus, divided by 2 - cos theta_x - cos theta_y)
 //   monotone:  max over unknowns of (sum of |row of the one-step particle map| - 1)
 // The L2 margin divides by 1 - cos theta so that it stays informative near theta = 0, where
 // rho = 1 exactly (conservation) and, just above the limit, the growth is O(theta^2) times a
@@ -18,6 +19,9 @@ namespace dgmpm::stability {
 
 // Round-off levels of the margins (their values near a passing C): see criteria.cpp.
 constexpr double kL2MarginTolerance = 1e-9;
+// 2D: eigenvalues of up to 20 x 20 symbols, and a margin divided by |theta|^2 / 2 down to
+// |theta| = 0.05 (see criteria.cpp).
+constexpr double kL2MarginTolerance2D = 1e-7;
 constexpr double kMonotoneMarginTolerance = 1e-12;
 
 // Spectral radius of one family's G(theta) at a fixed C. Every particle value after a step is
@@ -30,10 +34,13 @@ class FamilySpectrum {
   void set_courant(double courant);
   double radius(double theta) const;                // at the last set_courant
   double radius(std::complex<double> phase) const;  // phase = e^{-i theta}
+  // 2D: phases e^{-i theta_x}, e^{-i theta_y}.
+  double radius(std::complex<double> phase_x, std::complex<double> phase_y) const;
+  double radius(double theta_x, double theta_y) const;
   int reduced_size() const { return rank_; }
 
  private:
-  std::vector<int> offsets_;
+  std::vector<int> offsets_, offsets_y_;
   std::vector<std::vector<Eigen::MatrixXd>> reduced_;  // [offset][power], rank_ x rank_
   std::vector<Eigen::MatrixXd> at_courant_;            // [offset]
   int rank_ = 0;
@@ -41,7 +48,8 @@ class FamilySpectrum {
 
 struct L2Margin {
   double value = 0.0;
-  double theta = 0.0;  // where the maximum is
+  double theta = 0.0;    // where the maximum is (theta_x in 2D)
+  double theta_y = 0.0;  // 2D
   int family = 0;
 };
 
@@ -50,10 +58,11 @@ class L2Criterion {
   explicit L2Criterion(const OneStepMap& map);
   L2Margin margin(double courant);
   // max over families of rho(G(theta)) at C.
-  double spectral_radius(double courant, double theta);
+  double spectral_radius(double courant, double theta, double theta_y = 0.0);
 
  private:
   std::vector<FamilySpectrum> families_;
+  int dim_ = 1;
 };
 
 struct MonotoneMargin {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 namespace dgmpm::stability {
 
@@ -14,19 +16,23 @@ double CellLayout::mass_fraction(int k) const {
 
 void validate(const CellLayout& layout) {
   if (layout.positions.empty()) throw std::invalid_argument("the layout has no particle");
-  for (int k = 0; k < layout.size(); ++k) {
-    const double x = layout.positions[k];
-    if (!(x >= 0.0 && x <= 1.0)) {
-      std::ostringstream s;
-      s << "position " << k + 1 << " (" << x << ") is outside the cell: positions are local "
-        << "coordinates in [0, 1]";
-      throw std::invalid_argument(s.str());
+  if (layout.dim < 1 || layout.positions.size() % static_cast<std::size_t>(layout.dim) != 0)
+    throw std::invalid_argument("the layout's coordinates are not " + std::to_string(layout.dim) +
+                                " per particle");
+  for (int k = 0; k < layout.size(); ++k)
+    for (int a = 0; a < layout.dim; ++a) {
+      const double x = layout.position(k, a);
+      if (!(x >= 0.0 && x <= 1.0)) {
+        std::ostringstream s;
+        s << "position " << k + 1 << " (" << x << ") is outside the cell: positions are local "
+          << "coordinates in [0, 1]";
+        throw std::invalid_argument(s.str());
+      }
     }
-  }
   if (layout.masses.empty()) return;
-  if (layout.masses.size() != layout.positions.size()) {
+  if (layout.masses.size() != static_cast<std::size_t>(layout.size())) {
     std::ostringstream s;
-    s << layout.masses.size() << " masses for " << layout.positions.size()
+    s << layout.masses.size() << " masses for " << layout.size()
       << " positions: give one mass per position (or none for equal masses)";
     throw std::invalid_argument(s.str());
   }
@@ -42,15 +48,40 @@ void validate(const CellLayout& layout) {
 
 CellLayout mirror(const CellLayout& layout) {
   CellLayout m = layout;
-  for (double& x : m.positions) x = 1.0 - x;
+  for (int k = 0; k < m.size(); ++k) m.positions[k * m.dim] = 1.0 - m.positions[k * m.dim];
   return m;
 }
 
-CellLayout regular_layout(int n) {
+CellLayout transpose(const CellLayout& layout) {
+  CellLayout t = layout;
+  if (t.dim == 2)
+    for (int k = 0; k < t.size(); ++k) std::swap(t.positions[2 * k], t.positions[2 * k + 1]);
+  return t;
+}
+
+CellLayout regular_layout(int n, int dim) {
   if (n < 1) throw std::invalid_argument("a regular layout needs at least one particle");
   CellLayout layout;
-  for (int k = 0; k < n; ++k) layout.positions.push_back((k + 0.5) / n);
+  layout.dim = dim;
+  if (dim == 1) {
+    for (int k = 0; k < n; ++k) layout.positions.push_back((k + 0.5) / n);
+  } else {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        layout.positions.push_back((i + 0.5) / n);
+        layout.positions.push_back((j + 0.5) / n);
+      }
+  }
   return layout;
+}
+
+std::string describe_positions(const CellLayout& layout) {
+  std::ostringstream s;
+  for (int k = 0; k < layout.size(); ++k) {
+    s << (k ? ", " : "");
+    for (int a = 0; a < layout.dim; ++a) s << (a ? ":" : "") << layout.position(k, a);
+  }
+  return s.str();
 }
 
 std::string describe(const std::vector<double>& values) {

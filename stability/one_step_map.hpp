@@ -1,10 +1,12 @@
 #pragma once
-// The particle-to-particle one-step map of lib's integrators on a periodic grid of identical
-// cells (method.md 5): u^{n+1}(e) = sum_d B_d u^n(e - d), and G(theta) = sum_d B_d e^{-i d theta}.
+// The particle-to-particle one-step map of lib's stepper on a periodic grid of identical cells
+// (docs/method.md, "Stability"): u^{n+1}(e) = sum_d B_d u^n(e - d), and
+// G(theta) = sum_d B_d e^{-i d . theta}, d an offset in cells (1D, or 2D: (d_x, d_y)).
 //
-// B_d is never derived by hand: lib's ForwardEuler / HeunRK2 step is applied to unit particle
-// vectors on a small periodic grid and the responses are read off. The map is a polynomial in the
-// Courant number C (degree 1 for Euler, 2 for RK2), so B_d(C) = sum_k C^k B_{d,k}: the
+// B_d is never derived by hand: lib's step is applied to unit particle vectors on a small
+// periodic grid and the responses are read off; the offsets it reaches are detected. The map is
+// a polynomial in the Courant number C (degree 1 for Euler, 2 for RK2, twice that for CTU, whose
+// operator scales its transverse corrections with dt), so B_d(C) = sum_k C^k B_{d,k}: the
 // coefficients come from exact Lagrange interpolation of degree + 1 applications of the step,
 // checked against one more application, and later evaluations at any C cost a few flops.
 
@@ -20,11 +22,13 @@ namespace dgmpm::stability {
 
 // A set of unknowns per cell that the map does not couple to the others. Advection has one
 // family; the elastic bar, in characteristic variables w = sigma -+ Z v, has two (one per wave
-// direction), exactly decoupled because the Godunov flux is upwind on each characteristic.
+// direction), exactly decoupled because the Godunov flux is upwind on each characteristic. The
+// 2D elastic system does not decouple: one family of all 5 N unknowns.
 struct StencilFamily {
-  std::string direction;  // "+x" or "-x": where this family's waves travel ("both" if coupled)
-  int size = 0;           // unknowns per cell
-  std::vector<int> offsets;
+  std::string direction;       // "+x" or "-x": where this family's waves travel ("both" if coupled)
+  int size = 0;                // unknowns per cell
+  std::vector<int> offsets;    // along x
+  std::vector<int> offsets_y;  // along y, same length (0 in 1D)
   std::vector<std::vector<Eigen::MatrixXd>> coefficients;  // [offset index][power of C]
   std::vector<int> particle;                               // layout particle of each unknown
 
@@ -33,8 +37,7 @@ struct StencilFamily {
 
 struct OneStepMap {
   CellLayout layout;
-  TimeScheme scheme = TimeScheme::euler;
-  Model model = Model::advection;
+  AnalysisSetting setting;
   int degree = 1;
   std::vector<StencilFamily> families;
   // Round-off level of the coefficients: about 1e-15 / the smallest nodal mass share.
@@ -43,11 +46,15 @@ struct OneStepMap {
   double round_off_level() const;
 };
 
-// Throws std::invalid_argument for an invalid layout, std::logic_error if lib's step is not the
-// expected polynomial in dt or reaches further than the analysis window (+-3 cells).
+// Throws std::invalid_argument for an invalid layout (or one whose dimension is not the
+// setting's), std::logic_error if lib's step is not the expected polynomial in dt or reaches
+// further than the analysis window (+-3 cells).
+OneStepMap build_one_step_map(const CellLayout& layout, const AnalysisSetting& setting);
+// 1D.
 OneStepMap build_one_step_map(const CellLayout& layout, TimeScheme scheme, Model model);
 
-// G(theta) of one family at Courant number C.
-Eigen::MatrixXcd amplification_matrix(const StencilFamily& family, double courant, double theta);
+// G(theta_x, theta_y) of one family at Courant number C.
+Eigen::MatrixXcd amplification_matrix(const StencilFamily& family, double courant, double theta,
+                                      double theta_y = 0.0);
 
 }  // namespace dgmpm::stability

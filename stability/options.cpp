@@ -42,4 +42,8 @@ int polynomial_degree(TimeScheme s) {
   return s == TimeScheme::euler ? 1 : 2;
 }
 
+int polynomial_degree(const AnalysisSetting& s) {
+  return polynomial_degree(s.time) * (s.dim > 1 && s.flux == FluxScheme::ctu ? 2 : 1);
+}
+
 }  // namespace dgmpm::stability

@@ -1,6 +1,7 @@
 #pragma once
 // The choices of an analysis: time scheme, criterion, model.
 
+#include <dgmpm/dg_operator.hpp>
 #include <dgmpm/time_integration.hpp>
 
 #include <string>
@@ -23,5 +24,26 @@ Model parse_model(const std::string&);
 
 // Degree in the Courant number of the one-step map: 1 for Euler, 2 for RK2 (I + L + L^2 / 2).
 int polynomial_degree(TimeScheme);
+
+using dgmpm::FluxScheme;
+
+// What the analysis steps: the model problem of a periodic grid of identical cells.
+// 1D: unit cells, unit wave speed (advection speed 1, waves to +x; elastic bar E = rho = 1).
+// 2D: cells dx / dy = aspect with min(dx, dy) = 1; advection with speeds (a, b) >= 0,
+// C = dt max(a / dx, b / dy); plane strain with Poisson's ratio nu and c_p = 1,
+// C = c_p dt / min(dx, dy).
+struct AnalysisSetting {
+  int dim = 1;
+  TimeScheme time = TimeScheme::euler;
+  FluxScheme flux = FluxScheme::dcu;  // 2D
+  Model model = Model::elastic;
+  double poisson = 0.3;               // 2D elastic
+  double speed_x = 1.0, speed_y = 0;  // 2D advection
+  double aspect = 1.0;                // 2D: dx / dy
+};
+
+// Degree in C of the one-step map: 1 (Euler) or 2 (RK2), times 2 for CTU, whose operator holds
+// dt itself (transverse corrections scale with dt / h).
+int polynomial_degree(const AnalysisSetting&);
 
 }  // namespace dgmpm::stability

@@ -11,14 +11,14 @@ namespace {
 template <class Physics>
 double radius(const CellLayout& layout, TimeScheme scheme, int cells, double courant,
               const ArpackOptions& options) {
-  PeriodicCells<Physics> grid(layout, cells);
+  PeriodicCells<Physics> grid(layout, cells, AnalysisSetting{1, scheme});
   const int n = Physics::n_comp * grid.num_particles();
   return spectral_radius(
       n,
       [&](const double* x, double* y) {
         grid.state() = Eigen::Map<const typename PeriodicCells<Physics>::Field>(
             x, Physics::n_comp, grid.num_particles());
-        grid.step(scheme, courant);
+        grid.step(courant);
         Eigen::Map<typename PeriodicCells<Physics>::Field>(y, Physics::n_comp,
                                                            grid.num_particles()) = grid.state();
       },

@@ -78,7 +78,7 @@ double fourier_amplitude(const PeriodicCells<Physics>& grid, const std::string& 
 
 template <class Physics>
 void check_bounded_below_limit(const CellLayout& layout, TimeScheme scheme, double courant) {
-  PeriodicCells<Physics> grid(layout, 16);
+  PeriodicCells<Physics> grid(layout, 16, AnalysisSetting{1, scheme});
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> value(-1.0, 1.0);
   for (int p = 0; p < grid.num_particles(); ++p)
@@ -86,7 +86,7 @@ void check_bounded_below_limit(const CellLayout& layout, TimeScheme scheme, doub
   const double initial = grid.state().cwiseAbs().maxCoeff();
   double largest = initial;
   for (int step = 1; step <= 100000; ++step) {
-    grid.step(scheme, courant);
+    grid.step(courant);
     if (step % 1000 == 0) largest = std::max(largest, grid.state().cwiseAbs().maxCoeff());
   }
   BOOST_TEST(std::isfinite(largest));
@@ -124,17 +124,17 @@ void check_growth_above_limit(const CellLayout& layout, TimeScheme scheme, Model
   }
   BOOST_TEST(std::abs(best - rho) < 1e-12);
 
-  PeriodicCells<Physics> grid(layout, cells);
+  PeriodicCells<Physics> grid(layout, cells, AnalysisSetting{1, scheme});
   grid.state().setZero();
   const int n = layout.size();
   for (int e = 0; e < cells; ++e)
     for (int i = 0; i < n; ++i)
       set_family_value(grid, e * n + i, family->direction,
                        std::real(mode[i] * std::polar(1.0, theta * e)));
-  for (int step = 0; step < 20; ++step) grid.step(scheme, courant);  // transients
+  for (int step = 0; step < 20; ++step) grid.step(courant);  // transients
   const double before = fourier_amplitude(grid, family->direction, theta);
   const int steps = std::min(50000, static_cast<int>(std::ceil(std::log(1e10) / std::log(rho))));
-  for (int step = 0; step < steps; ++step) grid.step(scheme, courant);
+  for (int step = 0; step < steps; ++step) grid.step(courant);
   const double after = fourier_amplitude(grid, family->direction, theta);
   const double measured = std::pow(after / before, 1.0 / steps);
   BOOST_TEST_MESSAGE(to_string(model)
@@ -153,9 +153,9 @@ void check_growth_above_limit(const CellLayout& layout, TimeScheme scheme, Model
   for (int p = 0; p < grid.num_particles(); ++p)
     for (int c = 0; c < Physics::n_comp; ++c) grid.state()(c, p) = value(rng);
   const int transient = static_cast<int>(std::ceil(std::log(1e8) / std::log(rho)));
-  for (int step = 0; step < transient; ++step) grid.step(scheme, courant);
+  for (int step = 0; step < transient; ++step) grid.step(courant);
   const double start = grid.state().norm();
-  for (int step = 0; step < steps; ++step) grid.step(scheme, courant);
+  for (int step = 0; step < steps; ++step) grid.step(courant);
   const double random_growth = std::pow(grid.state().norm() / start, 1.0 / steps);
   BOOST_TEST(std::abs((random_growth - 1.0) - (rho - 1.0)) <= 0.05 * (rho - 1.0),
              "random start: measured growth " << random_growth << ", predicted rho " << rho);
@@ -166,11 +166,11 @@ void check_growth_above_limit(const CellLayout& layout, TimeScheme scheme, Model
 // step: does it stay inside its initial [0, 1] for 300 steps?
 bool square_wave_stays_in_range(const CellLayout& layout, TimeScheme scheme, double courant,
                                 int first, int width) {
-  PeriodicCells<Advection<1>> grid(layout, 20);
+  PeriodicCells<Advection<1>> grid(layout, 20, AnalysisSetting{1, scheme});
   for (int p = 0; p < grid.num_particles(); ++p)
     grid.state()(0, p) = p >= first && p < first + width ? 1.0 : 0.0;
   for (int step = 0; step < 300; ++step) {
-    grid.step(scheme, courant);
+    grid.step(courant);
     if (grid.state().minCoeff() < -1e-12 || grid.state().maxCoeff() > 1.0 + 1e-12) return false;
   }
   return true;
