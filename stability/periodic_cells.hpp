@@ -15,6 +15,7 @@
 #include <dgmpm/stepper.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -108,8 +109,8 @@ class PeriodicCells {
   // The time step of Courant number C (see AnalysisSetting).
   double time_step(double courant) const {
     if constexpr (std::is_same_v<Physics, Advection<2>>)
-      return courant /
-             std::max(setting_.speed_x / grid_.cell_size[0], setting_.speed_y / grid_.cell_size[1]);
+      return courant / std::max(std::abs(setting_.speed_x) / grid_.cell_size[0],
+                                std::abs(setting_.speed_y) / grid_.cell_size[1]);
     return courant;
   }
 
