@@ -693,13 +693,13 @@ class Parser {
                                   format_number(lo) + ", " + format_number(hi) + "]";
     for (std::size_t j = 0; j < segments.size(); ++j) {
       const BoundarySpec& b = segments[j];
-      const json& range = v.is_array() ? v[j]["range"] : v["range"];
       const std::string rpath = (v.is_array() ? index_path(path, j) : path) + ".range";
       if (!b.has_range)
         fail(rpath, "missing required key for a segment in a list; allowed: [from, to] within " +
                         side_text);
       if (b.range_lo < lo - slack || b.range_hi > hi + slack)
-        refuse(rpath, range, "is outside " + side_text, "[from, to] within " + side_text);
+        refuse(rpath, v.is_array() ? v[j].at("range") : v.at("range"),
+               "is outside " + side_text, "[from, to] within " + side_text);
     }
     std::vector<std::size_t> order(segments.size());
     for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
@@ -709,9 +709,9 @@ class Parser {
     for (std::size_t j = 1; j < order.size(); ++j) {
       const BoundarySpec &prev = segments[order[j - 1]], &next = segments[order[j]];
       if (next.range_lo < prev.range_hi)
-        refuse(index_path(path, order[j]) + ".range", v[order[j]]["range"],
+        refuse(index_path(path, order[j]) + ".range", v[order[j]].at("range"),
                "overlaps " + index_path(path, order[j - 1]) + ".range " +
-                   show(v[order[j - 1]]["range"]),
+                   show(v[order[j - 1]].at("range")),
                "segments that do not overlap (they may touch)");
     }
     std::vector<BoundarySpec> sorted;
