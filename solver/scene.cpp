@@ -698,8 +698,8 @@ class Parser {
         fail(rpath, "missing required key for a segment in a list; allowed: [from, to] within " +
                         side_text);
       if (b.range_lo < lo - slack || b.range_hi > hi + slack)
-        refuse(rpath, v.is_array() ? v[j].at("range") : v.at("range"),
-               "is outside " + side_text, "[from, to] within " + side_text);
+        refuse(rpath, v.is_array() ? v[j].at("range") : v.at("range"), "is outside " + side_text,
+               "[from, to] within " + side_text);
     }
     std::vector<std::size_t> order(segments.size());
     for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;

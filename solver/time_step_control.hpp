@@ -20,6 +20,7 @@
 #include <stability/options.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -51,16 +52,25 @@ class TimeStepControl : public LayoutQuantisation {
   using Disc = Discretisation<Physics>;
   using ParticleSet = Particles<dim, Physics::n_comp>;
 
-  // Throws scene::SceneError for "auto" where no layout analysis exists yet (2D).
-  TimeStepControl(const scene::Scene& scene)
+  // Throws scene::SceneError for a criterion the analysis cannot apply (2D elastic monotone).
+  explicit TimeStepControl(const scene::Scene& scene)
       : automatic_(scene.time.courant_auto), courant_(scene.time.courant),
         safety_(scene.time.safety),
         quantum_(scene.particles_move ? moving_position_quantum : fixed_position_quantum),
-        scheme_(scene.time.integrator), criterion_(scene.time.criterion) {
-    if (automatic_ && dim > 1)
-      throw scene::SceneError(scene.source +
-                              ": time.courant: value \"auto\" is not available in 2D yet; "
-                              "allowed: a number > 0");
+        criterion_(scene.time.criterion) {
+    setting_.dim = dim;
+    setting_.time = scene.time.integrator;
+    setting_.flux = scene.flux;
+    setting_.model = stability::Model::elastic;
+    if (dim > 1) setting_.aspect = scene.grid.cell_size[0] / scene.grid.cell_size[1];
+    if (automatic_ && dim > 1 && criterion_ == stability::Criterion::monotone)
+      throw scene::SceneError(
+          scene.source +
+          ": time.criterion: value \"monotone\" is not available in 2D: the elastic system does "
+          "not split into the scalar waves the criterion needs; allowed: \"l2\"");
+    // A lone particle's map does not depend on where it sits, but for RK2 in 2D (the second
+    // stage sees the unequal nodal masses of an off-centre particle).
+    lone_particle_shared_ = dim == 1 || setting_.time == TimeScheme::euler;
   }
 
   bool automatic() const { return automatic_; }
@@ -72,9 +82,7 @@ class TimeStepControl : public LayoutQuantisation {
     for (int c = 0; c < disc.num_cells(); ++c) {
       if (!disc.occupied(c)) continue;
       const double speed = Physics::max_wave_speed(disc.cell_material(c));
-      double cs = courant_;
-      if constexpr (dim == 1)
-        if (automatic_) cs = safety_ * cell_courant(disc, particles, c, volume);
+      const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c, volume) : courant_;
       dt = std::min(dt, cs * h / speed);
     }
     return dt;
@@ -88,8 +96,7 @@ class TimeStepControl : public LayoutQuantisation {
     double fill = 1;
     stability::CellLayout layout;
   };
-  Limit smallest_admissible(const Disc& disc, const ParticleSet& particles,
-                            double cell_volume) requires(dim == 1) {
+  Limit smallest_admissible(const Disc& disc, const ParticleSet& particles, double cell_volume) {
     Limit limit;
     limit.courant = std::numeric_limits<double>::infinity();
     for (int c = 0; c < disc.num_cells(); ++c) {
@@ -106,27 +113,26 @@ class TimeStepControl : public LayoutQuantisation {
 
   // The layout of cell c as analysed: positions (quantised when particles move) sorted, masses
   // relative to the first one.
-  stability::CellLayout layout_of(const Disc& disc, const ParticleSet& particles,
-                                  int c) requires(dim == 1) {
+  stability::CellLayout layout_of(const Disc& disc, const ParticleSet& particles, int c) {
     fill_key(disc, particles, c);
     return key_layout();
   }
 
   // Admissible Courant number of cell c's layout, through the cache (no allocation on a hit),
   // times min(1, fill).
-  double cell_courant(const Disc& disc, const ParticleSet& particles, int c,
-                      double cell_volume) requires(dim == 1) {
+  double cell_courant(const Disc& disc, const ParticleSet& particles, int c, double cell_volume) {
     const double small_cell = std::min(1.0, fill(disc, c, cell_volume));
-    if (disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_courant_ > 0.0)
+    const bool lone = disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_;
+    if (lone && lone_particle_courant_ > 0.0)
       return small_cell * lone_particle_courant_;  // the common case, without building a key
     fill_key(disc, particles, c);
     const auto it = cache_.find(key_);
     if (it != cache_.end()) return small_cell * it->second;
-    const double courant =
-        stability::admissible_courant(key_layout(), scheme_, criterion_, stability::Model::elastic)
-            .courant;
+    stability::AnalysisSetting setting = setting_;
+    if constexpr (dim > 1) setting.poisson = disc.cell_material(c).poisson;
+    const double courant = stability::admissible_courant(key_layout(), setting, criterion_).courant;
     cache_.emplace(key_, courant);
-    if (key_.size() == 2) lone_particle_courant_ = courant;
+    if (lone && dim == 1) lone_particle_courant_ = courant;  // 2D: one entry per Poisson ratio
     return small_cell * courant;
   }
 
@@ -138,35 +144,50 @@ class TimeStepControl : public LayoutQuantisation {
  private:
   bool automatic_;
   double courant_, safety_, quantum_;
-  stability::TimeScheme scheme_;
   stability::Criterion criterion_;
-  std::map<std::vector<double>, double> cache_;  // key: positions then relative masses
-  double lone_particle_courant_ = -1;            // the one-particle entry, once analysed
-  std::vector<std::pair<double, double>> entries_;
+  stability::AnalysisSetting setting_;
+  bool lone_particle_shared_ = true;
+  // Key: (2D: Poisson's ratio), positions (dim per particle, sorted), then relative masses.
+  std::map<std::vector<double>, double> cache_;
+  double lone_particle_courant_ = -1;  // the one-particle entry, once analysed
+  struct Entry {
+    std::array<double, dim> x;
+    double mass;
+    bool operator<(const Entry& o) const { return x < o.x || (x == o.x && mass < o.mass); }
+  };
+  std::vector<Entry> entries_;
   std::vector<double> key_;
+  static constexpr int key_prefix = dim > 1 ? 1 : 0;  // Poisson's ratio in 2D
 
   void fill_key(const Disc& disc, const ParticleSet& particles, int c) {
     entries_.clear();
     for (int e = disc.cell_begin(c); e < disc.cell_end(c); ++e) {
       const int p = disc.entry_particle(e);
-      entries_.emplace_back(quantise_position(disc.particle_local(p)[0], quantum_),
-                            particles.mass[p]);
+      Entry entry;
+      for (int a = 0; a < dim; ++a)
+        entry.x[a] = quantise_position(disc.particle_local(p)[a], quantum_);
+      entry.mass = particles.mass[p];
+      entries_.push_back(entry);
     }
     // A lone particle's one-step map does not depend on where it sits (lib's update reduces to
     // the upwind finite-volume one; tests/stability_von_neumann.cpp checks C* = 1 from xi = 0 to
-    // 1 and next to the nodes): all such cells share the key of the first one analysed.
-    if (entries_.size() == 1) entries_.front().first = 0.5;
+    // 1 and next to the nodes), but for RK2 in 2D: where shared, all such cells take the key of
+    // the centre.
+    if (entries_.size() == 1 && lone_particle_shared_) entries_.front().x.fill(0.5);
     std::sort(entries_.begin(), entries_.end());
-    const double unit = entries_.front().second;  // the analysis rescales masses to a full cell
+    const double unit = entries_.front().mass;  // the analysis rescales masses to a full cell
     key_.clear();
-    for (const auto& entry : entries_) key_.push_back(entry.first);
-    for (const auto& entry : entries_) key_.push_back(entry.second / unit);
+    if constexpr (dim > 1) key_.push_back(disc.cell_material(c).poisson);
+    for (const auto& entry : entries_)
+      for (int a = 0; a < dim; ++a) key_.push_back(entry.x[a]);
+    for (const auto& entry : entries_) key_.push_back(entry.mass / unit);
   }
 
   stability::CellLayout key_layout() const {
-    const auto n = static_cast<std::ptrdiff_t>(key_.size() / 2);
-    return {std::vector<double>(key_.begin(), key_.begin() + n),
-            std::vector<double>(key_.begin() + n, key_.end())};
+    const auto n = static_cast<std::ptrdiff_t>((key_.size() - key_prefix) / (dim + 1));
+    const auto first = key_.begin() + key_prefix;
+    return {std::vector<double>(first, first + dim * n),
+            std::vector<double>(first + dim * n, key_.end()), dim};
   }
 };
 

@@ -435,9 +435,6 @@ BOOST_AUTO_TEST_CASE(refuses_bad_2d_inputs) {
   d["bodies"][0]["velocity"] = {1};
   check_refused(d, {"bodies[0].velocity: value [1] has 1 entries", "2 numbers"});
   d = good;
-  d["time"]["courant"] = "auto";
-  check_refused(d, {"time.courant: value \"auto\" is not available in 2D yet"});
-  d = good;
   d["exact"] = "bar";
   check_refused(d, {"exact: value \"bar\""});
   d = good;
