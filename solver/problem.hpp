@@ -42,7 +42,6 @@ struct Problem {
 };
 
 using BarProblem = Problem<ElasticBar>;
-using PlaneStrainProblem = Problem<PlaneStrain>;
 
 // Throws scene::SceneError when the scene's pieces do not fit together (e.g. an exact solution
 // asked for a bar of several materials) or its dimension is not the physics'.

@@ -670,14 +670,14 @@ class Parser {
         if (v.empty())
           refuse(path, v, "holds no segment", "a condition object or an array of segments");
         for (std::size_t j = 0; j < v.size(); ++j)
-          segments.push_back(parse_boundary(v[j], index_path(path, j), s, axis, true));
+          segments.push_back(parse_boundary(v[j], index_path(path, j), s, axis));
         check_segments(segments, path, v, s, axis);
       } else {
         const std::string allowed = s.dimension == 1
                                         ? "an object with type (and value)"
                                         : "an object with type (value, range) or an array of them";
         if (!v.is_object()) wrong_type(path, v, allowed);
-        segments.push_back(parse_boundary(v, path, s, axis, false));
+        segments.push_back(parse_boundary(v, path, s, axis));
         if (segments.back().has_range) check_segments(segments, path, v, s, axis);
       }
     }
@@ -719,8 +719,8 @@ class Parser {
     segments = sorted;
   }
 
-  BoundarySpec parse_boundary(const json& v, const std::string& path, const Scene& s, int axis,
-                              bool in_list) const {
+  BoundarySpec parse_boundary(const json& v, const std::string& path, const Scene& s,
+                              int axis) const {
     const bool plane = s.dimension > 1;
     if (plane)
       check_object(v, path, {"type", "value", "range"});
@@ -746,7 +746,6 @@ class Parser {
       bc.range_lo = range[0];
       bc.range_hi = range[1];
     }
-    (void)in_list;
     const std::string value_path = key_path(path, "value");
     const auto n = static_cast<std::size_t>(s.dimension);
     const std::string what =

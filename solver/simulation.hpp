@@ -101,8 +101,6 @@ class Simulation final : public SimulationBase {
   // Physical state (sigma, v) of every particle: 1D (sigma, v); 2D (sigma_xx, sigma_yy,
   // sigma_xy, v_x, v_y).
   Field physical_state() const;
-  Eigen::MatrixXd stresses() const { return physical_state().topRows(ncomp - dim); }
-  Eigen::MatrixXd velocities() const { return physical_state().bottomRows(dim); }
   Eigen::VectorXd stress() const requires(dim == 1) { return physical_state().row(0).transpose(); }
   Eigen::VectorXd velocity() const requires(dim == 1) {
     return physical_state().row(1).transpose();

@@ -87,7 +87,7 @@ class PeriodicCells {
   PeriodicCells(const PeriodicCells&) = delete;  // the stepper refers to the members
   PeriodicCells& operator=(const PeriodicCells&) = delete;
 
-  int cells() const { return grid_.cells[0]; }
+  int cells() const { return grid_.cells[0]; }  // per axis
   int cell_index(const typename Grid<dim>::Index& k) const { return grid_.flatten(k); }
   // Smallest share of a cell's mass that one of its nodes holds, nodes that lib folds as massless
   // aside (every cell is the same: cell 0 speaks for all).

@@ -85,11 +85,6 @@ struct BoundarySide {
     }
     return nullptr;
   }
-  // Kind at x (free where no segment covers it).
-  BoundaryKind kind_at(const Eigen::Matrix<double, Dim, 1>& x, int axis) const {
-    const auto* c = at(x, axis);
-    return c ? c->kind : BoundaryKind::free;
-  }
 };
 
 // boundaries[axis][side], side 0 at the axis' lower end. Ignored on periodic axes.

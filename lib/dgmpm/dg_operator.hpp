@@ -66,7 +66,6 @@ class DGOperator {
 
   const Grid<dim>& grid() const { return grid_; }
   const Disc& discretisation() const { return disc_; }
-  FluxScheme flux_scheme() const { return scheme_; }
   int num_nodes() const { return grid_.num_nodes(); }
   int num_faces(int axis) const { return static_cast<int>(face_cells_[axis].size()); }
 
