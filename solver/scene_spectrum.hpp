@@ -20,6 +20,7 @@ struct SceneSpectrumResult {
   int evaluations = 0;
   std::string boundaries;  // periodic / reflecting
   std::string note;        // why the spectrum speaks for these boundaries
+  std::string method;      // how the spectra were computed
 };
 
 // Throws scene::SceneError for a scene this does not apply to (MPM).
