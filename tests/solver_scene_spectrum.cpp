@@ -65,3 +65,39 @@ BOOST_AUTO_TEST_CASE(mpm_scenes_are_refused) {
   doc["method"] = "mpm-usl";
   BOOST_CHECK_THROW(analyse_scene_spectrum(scene::parse_scene(doc)), scene::SceneError);
 }
+
+// A small 2D plate with free, traction and roller edges, one particle per cell at the centre:
+// the whole scene's limit agrees with the layout analysis of its cells (C* = 1 for DCU with RK2
+// and CTU with Euler), to the percent that the boundaries may add.
+BOOST_AUTO_TEST_CASE(small_plate_agrees_with_the_layout_analysis) {
+  for (const auto& [flux, integrator] : {std::pair{"dcu", "rk2"}, std::pair{"ctu", "euler"}}) {
+    BOOST_TEST_CONTEXT(flux << ", " << integrator) {
+      const json doc = {
+          {"dimension", 2},
+          {"flux", flux},
+          {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {0.1, 0.1}}, {"cells", {6, 5}}}},
+          {"materials", {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}}}},
+          {"bodies",
+           {{{"material", "steel"},
+             {"box", {{"min", {0.0, 0.0}}, {"max", {0.6, 0.5}}}},
+             {"particles_per_cell", {1, 1}}}}},
+          {"boundaries",
+           {{"xmin", {{{"type", "traction"}, {"value", {-1e8, 0.0}}, {"range", {0.0, 0.25}}}}},
+            {"ymin", {{"type", "roller"}}}}},
+          {"time", {{"end", 1e-4}, {"integrator", integrator}, {"courant", 1.0}}}};
+      const auto r = analyse_scene_spectrum(scene::parse_scene(doc));
+      stability::AnalysisSetting s;
+      s.dim = 2;
+      s.flux = std::string(flux) == "ctu" ? FluxScheme::ctu : FluxScheme::dcu;
+      s.time = std::string(integrator) == "rk2" ? TimeScheme::rk2 : TimeScheme::euler;
+      const double layout =
+          stability::admissible_courant({{0.5, 0.5}, {}, 2}, s, stability::Criterion::l2).courant;
+      BOOST_TEST_MESSAGE(flux << " " << integrator << ": scene " << r.courant << ", layout "
+                              << layout);
+      BOOST_TEST(layout == 1.0, boost::test_tools::tolerance(1e-6));
+      BOOST_TEST(r.courant >= 0.99 * layout);
+      BOOST_TEST(r.courant <= 1.05 * layout);
+      BOOST_TEST(r.unknowns == 150);
+    }
+  }
+}
