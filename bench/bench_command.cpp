@@ -28,14 +28,15 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--what", args->what,
                   "Benchmarks to run: solver, courant (default both), plate (2D; give "
-                  "--particles 10000,100000,1000000)")
+                  "--particles 10000,100000,1000000), courant-2d (2D query costs, 3 runs each)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"solver", "courant", "plate"}));
+      ->check(CLI::IsMember({"solver", "courant", "plate", "courant-2d"}));
   cmd->callback([args] {
     for (const auto& w : args->what) {
       if (w == "solver") run_solver_benchmark(std::cout, args->particles, args->seconds);
       if (w == "courant") run_courant_benchmark(std::cout);
       if (w == "plate") run_plate_benchmark(std::cout, args->particles, args->seconds);
+      if (w == "courant-2d") run_courant_2d_benchmark(std::cout, 3);
     }
   });
 }

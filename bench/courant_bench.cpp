@@ -65,4 +65,43 @@ void run_courant_benchmark(std::ostream& out) {
   }
 }
 
+void run_courant_2d_benchmark(std::ostream& out, int repeats) {
+  using namespace dgmpm::stability;
+  const std::vector<CellLayout> layouts{regular_layout(1, 2),
+                                        CellLayout{{0.25, 0.5, 0.75, 0.5}, {}, 2},
+                                        regular_layout(2, 2), regular_layout(3, 2)};
+  out << "2D courant query (map built from lib's 2D step + search), min and median of " << repeats
+      << " runs\n";
+  out << std::fixed << std::setprecision(3);
+  for (Model model : {Model::advection, Model::elastic})
+    for (Criterion criterion : {Criterion::l2, Criterion::monotone}) {
+      if (model == Model::elastic && criterion == Criterion::monotone) continue;  // refused
+      for (TimeScheme scheme : {TimeScheme::euler, TimeScheme::rk2})
+        for (FluxScheme flux : {FluxScheme::dcu, FluxScheme::ctu})
+          for (const auto& layout : layouts) {
+            AnalysisSetting s;
+            s.dim = 2;
+            s.model = model;
+            s.time = scheme;
+            s.flux = flux;
+            s.speed_y = 1.0;
+            std::vector<double> times;
+            double courant = 0.0;
+            for (int run = 0; run < repeats; ++run) {
+              const auto start = Clock::now();
+              courant = admissible_courant(layout, s, criterion).courant;
+              times.push_back(seconds_since(start));
+            }
+            out << "  " << std::setw(9) << to_string(model) << ' ' << std::setw(8)
+                << to_string(criterion) << ' ' << std::setw(5) << to_string(scheme) << ' '
+                << to_string(flux) << "  N = " << layout.size() << ": C* = " << std::setprecision(4)
+                << courant << std::setprecision(1) << ", min "
+                << *std::min_element(times.begin(), times.end()) * 1e3 << " ms, median "
+                << median(times) * 1e3 << " ms\n"
+                << std::setprecision(3);
+          }
+    }
+  out << "  (goal: under 50 ms for 4 particles, elastic, RK2, L2)\n";
+}
+
 }  // namespace dgmpm::bench

@@ -8,4 +8,8 @@ namespace dgmpm::bench {
 // --map 100`). Goals: under 1 ms per query, under 10 s for the map on one core.
 void run_courant_benchmark(std::ostream& out);
 
+// 2D queries: 1, 2, 4 and 9 particles, Euler and RK2, DCU and CTU, L2 and monotone (advection),
+// advection and plane strain; min and median of `repeats` runs.
+void run_courant_2d_benchmark(std::ostream& out, int repeats);
+
 }  // namespace dgmpm::bench
