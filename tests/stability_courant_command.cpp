@@ -125,6 +125,67 @@ BOOST_AUTO_TEST_CASE(help_documents_every_option) {
   const Run r = run({"--help"});
   BOOST_TEST(r.code == 0);
   for (const char* option :
-       {"--positions", "--masses", "--time", "--criterion", "--model", "--json", "--map"})
+       {"--positions", "--masses", "--time", "--criterion", "--model", "--json", "--map", "--dim",
+        "--flux", "--speeds", "--poisson", "--aspect", "--scene"})
     BOOST_TEST(contains(r.out, option), option);
+}
+
+BOOST_AUTO_TEST_CASE(two_dimensional_json_object) {
+  const Run r = run({"--dim", "2", "--positions", "0.5:0.5", "--model", "advection", "--speeds",
+                     "1,0.4", "--json"});
+  BOOST_TEST(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  BOOST_TEST(j["courant"].get<double>() == 1 / 1.4, boost::test_tools::tolerance(1e-6));
+  BOOST_TEST(j["dim"].get<int>() == 2);
+  BOOST_TEST(j["flux"].get<std::string>() == "dcu");
+  BOOST_TEST(j["positions"] == nlohmann::json::parse("[[0.5, 0.5]]"));
+  BOOST_TEST(j["speeds"] == nlohmann::json::parse("[1.0, 0.4]"));
+  BOOST_TEST(j.contains("critical_theta_y"));
+  const Run text = run({"--dim", "2", "--positions", "0.25:0.5,0.75:0.5", "--model", "advection",
+                        "--criterion", "monotone"});
+  BOOST_TEST(contains(text.out, "C* = 0.2727"), text.out);
+  BOOST_TEST(contains(text.out, "positions 0.25:0.5, 0.75:0.5"), text.out);
+}
+
+// Every option that does not apply to the chosen mode is refused, not ignored; empty or
+// malformed entries too.
+BOOST_AUTO_TEST_CASE(options_that_do_not_apply_are_refused) {
+  const std::string scene = std::string(DGMPM_TEST_SOURCE_DIR) + "/scenes/two_bar_impact.json";
+  const struct {
+    std::vector<std::string> args;
+    std::string message;
+  } cases[] = {
+      {{"--positions", ""}, "--positions: entry 1 is empty"},
+      {{"--positions", "0.5,,0.5"}, "--positions: entry 2 is empty"},
+      {{"--positions", "0.25,0.75", "--masses", "1,,2"}, "--masses: entry 2 ('') is not a number"},
+      {{"--positions", "abc"}, "entry 1 ('abc') is not a number"},
+      {{"--positions", "0.5", "--flux", "ctu"}, "--flux does not apply in 1D"},
+      {{"--positions", "0.5", "--poisson", "0.2"}, "--poisson does not apply in 1D"},
+      {{"--positions", "0.5", "--aspect", "2"}, "--aspect does not apply in 1D"},
+      {{"--dim", "2", "--positions", "0.5"}, "has 1 coordinates; --dim 2 needs 2"},
+      {{"--dim", "2", "--positions", "0.5:0.5:0.5"}, "has 3 coordinates"},
+      {{"--dim", "2", "--positions", "0.5:0.5", "--model", "advection", "--poisson", "0.3"},
+       "--poisson does not apply to --model advection"},
+      {{"--dim", "2", "--positions", "0.5:0.5", "--speeds", "1,1"},
+       "--speeds does not apply to --model elastic"},
+      {{"--dim", "2", "--positions", "0.5:0.5", "--model", "advection", "--speeds", "-1,1"},
+       "--speeds takes two speeds a,b >= 0"},
+      {{"--dim", "2", "--positions", "0.5:0.5", "--criterion", "monotone"},
+       "the monotone criterion needs scalar waves"},
+      {{"--dim", "2", "--positions", "0.5:0.5", "--poisson", "0.5"}, "is outside (-1, 0.5)"},
+      {{"--dim", "2", "--map", "2", "--masses", "1"}, "--masses does not apply to a 2D --map"},
+      {{"--map", "2", "--json"}, "--json with --map needs --dim 2"},
+      {{"--scene", scene, "--time", "rk2"}, "--time does not apply to --scene"},
+      {{"--scene", scene, "--criterion", "monotone"}, "--criterion does not apply to --scene"},
+      {{"--scene", scene, "--model", "advection"}, "--model does not apply to --scene"},
+      {{"--scene", scene, "--masses", "1"}, "--masses does not apply to --scene"},
+      {{"--scene", scene, "--map", "3"}, "--map does not apply to --scene"},
+      {{"--scene", scene, "--dim", "2"}, "--dim does not apply to --scene"},
+  };
+  for (const auto& c : cases) {
+    const Run r = run(c.args);
+    BOOST_TEST(r.code == 2, c.message);
+    BOOST_TEST(r.out.empty(), c.message);
+    BOOST_TEST(contains(r.err, c.message), "expected '" << c.message << "' in: " << r.err);
+  }
 }
