@@ -10,8 +10,12 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
 #include <complex>
+#include <cstdio>
 #include <functional>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -121,8 +125,27 @@ SceneSpectrumResult analyse(const scene::Scene& scene, double tolerance) {
   options.max_courant = 2.0;
   options.courant_tolerance = 1e-6;
   options.margin_tolerance = tolerance;
+  // A progress line on a terminal once the search has taken 2 s (ARPACK on a large scene can take
+  // minutes).
+  const bool terminal = ::isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  int evaluations = 0;
+  bool shown = false;
   const auto search = stability::search_admissible_courant(
-      [&](double courant) { return radius(courant) - 1.0; }, options);
+      [&](double courant) {
+        const double rho = radius(courant);
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (terminal && elapsed > 2.0) {
+          std::fprintf(
+              stderr, "\rscene spectrum: %d Courant numbers tried, C = %.6f: rho = %.9f, %.0f s   ",
+              ++evaluations, courant, rho, elapsed);
+          shown = true;
+        }
+        return rho - 1.0;
+      },
+      options);
+  if (shown) std::fprintf(stderr, "\r%90s\r", "");
   result.courant = search.courant;
   result.failing_courant = search.failing_courant;
   result.bounded = search.bounded;
