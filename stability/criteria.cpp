@@ -219,7 +219,8 @@ L2Margin family_margin(FamilySpectrum& spectrum, double courant) {
 constexpr int kScan2D = 16;
 constexpr int kRays2D = 16;
 constexpr double kSmall2D = 0.05;
-constexpr int kRefined2D = 4;
+constexpr std::size_t kRefined2D = 4;
+constexpr double kRefineBelow2D = 1e-3;
 constexpr double kLine2D = 1e-3;
 
 struct TorusProfile {
@@ -324,7 +325,10 @@ L2Margin torus_margin(FamilySpectrum& spectrum, double courant) {
     }
   std::sort(maxima.begin(), maxima.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (std::size_t k = 0; k < maxima.size() && k < kRefined2D; ++k) {
+  // Refinement sharpens maxima near the decision; a scan whose largest value is clearly below
+  // zero (the symbol is smooth on the scale of the grid) needs none.
+  const std::size_t refined = best.value > -kRefineBelow2D ? kRefined2D : 0;
+  for (std::size_t k = 0; k < maxima.size() && k < refined; ++k) {
     const auto [i, j] = maxima[k].second;
     refine_torus_maximum(profile, i * h, (j - kScan2D + 1) * h, h, best);
   }
