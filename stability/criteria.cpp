@@ -325,11 +325,14 @@ L2Margin torus_margin(FamilySpectrum& spectrum, double courant) {
     }
   std::sort(maxima.begin(), maxima.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
-  // Refinement sharpens maxima near the decision; a scan whose largest value is clearly below
-  // zero (the symbol is smooth on the scale of the grid) needs none.
-  const std::size_t refined = best.value > -kRefineBelow2D ? kRefined2D : 0;
-  for (std::size_t k = 0; k < maxima.size() && k < refined; ++k) {
+  // Refinement sharpens maxima near the decision: those within kRefineBelow2D of zero (the
+  // symbol is smooth on the scale of the grid), off the neutral lines and the origin (where
+  // rho = 1 and the slope and ray checks below and above decide).
+  std::size_t refined = 0;
+  for (std::size_t k = 0; k < maxima.size() && refined < kRefined2D; ++k) {
     const auto [i, j] = maxima[k].second;
+    if (maxima[k].first <= -kRefineBelow2D || i == 0 || j == kScan2D - 1) continue;
+    ++refined;
     refine_torus_maximum(profile, i * h, (j - kScan2D + 1) * h, h, best);
   }
   // The neutral lines: slope of rho off theta_x = 0 (toward theta_x > 0) and off theta_y = 0
