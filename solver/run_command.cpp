@@ -28,10 +28,11 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
   if (scene.time.courant_auto)
     std::printf("automatic time step (%s, safety %g): %d layouts analysed\n",
                 scene::to_string(scene.time.criterion), scene.time.safety, s.layouts_analysed);
-  const double drift =
-      s.energy_initial > 0 ? (s.energy_final - s.energy_initial) / s.energy_initial : 0.0;
-  std::printf("energy: initial %.12g J, final %.12g J, relative change %.3e\n", s.energy_initial,
-              s.energy_final, drift);
+  if (s.energy_initial > 0)
+    std::printf("energy: initial %.12g J, final %.12g J, relative change %.3e\n", s.energy_initial,
+                s.energy_final, (s.energy_final - s.energy_initial) / s.energy_initial);
+  else  // a body at rest: the loads' work below is the reference
+    std::printf("energy: initial %.12g J, final %.12g J\n", s.energy_initial, s.energy_final);
   if (s.boundary_work != 0)
     std::printf("work of the boundary loads %.12g J; energy - work %.6g J\n", s.boundary_work,
                 s.energy_final - s.energy_initial - s.boundary_work);
