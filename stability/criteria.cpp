@@ -220,7 +220,6 @@ constexpr int kScan2D = 16;
 constexpr int kRays2D = 16;
 constexpr double kSmall2D = 0.05;
 constexpr std::size_t kRefined2D = 4;
-constexpr double kRefineBelow2D = 1e-3;
 constexpr double kLine2D = 1e-3;
 
 struct TorusProfile {
@@ -325,13 +324,15 @@ L2Margin torus_margin(FamilySpectrum& spectrum, double courant) {
     }
   std::sort(maxima.begin(), maxima.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
-  // Refinement sharpens maxima near the decision: those within kRefineBelow2D of zero (the
-  // symbol is smooth on the scale of the grid), off the neutral lines and the origin (where
-  // rho = 1 and the slope and ray checks below and above decide).
+  // Refinement sharpens the largest maxima, but not the neutral points of the axis lines (rho = 1
+  // there: the slope checks below decide). (Skipping maxima below a threshold is unsafe: a peak
+  // between grid points can lie above zero while the scan's values are below -1e-3.)
   std::size_t refined = 0;
   for (std::size_t k = 0; k < maxima.size() && refined < kRefined2D; ++k) {
     const auto [i, j] = maxima[k].second;
-    if (maxima[k].first <= -kRefineBelow2D || i == 0 || j == kScan2D - 1) continue;
+    const bool on_axis_line = i == 0 || j == kScan2D - 1;
+    const bool neutral = on_axis_line && std::abs(maxima[k].first) < 1e-9;  // rho = 1 there
+    if (neutral) continue;
     ++refined;
     refine_torus_maximum(profile, i * h, (j - kScan2D + 1) * h, h, best);
   }

@@ -237,3 +237,51 @@ BOOST_AUTO_TEST_CASE(validation_by_stepping_the_solver) {
     }
   }
 }
+
+// A second route to C*: bisection on "rho <= 1 + 1e-10 at every point of a dense 97 x 192 grid
+// of the half torus", written here without the search's margins, rays, slopes or refinement.
+// The search must never be above it (a limit too high is a run that blows up) and within 1%
+// below it (the dense grid cannot see what falls between its points, the search's refinement
+// and long-wave margin can).
+BOOST_AUTO_TEST_CASE(search_is_conservative_against_a_dense_scan) {
+  struct Case {
+    const char* name;
+    CellLayout layout;
+    AnalysisSetting setting;
+    double lo, hi;
+  };
+  const Case cases[] = {
+      {"advection 2 dcu euler", points({0.25, 0.5, 0.75, 0.5}), advection(1, 1, dcu, euler), 0.3,
+       0.6},
+      {"advection 2 ctu euler", points({0.25, 0.5, 0.75, 0.5}), advection(1, 1, ctu, euler), 0.4,
+       0.8},
+      {"advection 3 random dcu euler", points({0.1, 0.3, 0.6, 0.9, 0.8, 0.45}, {1, 2, 0.5}),
+       advection(0.7, 1, dcu, euler), 0.1, 0.9},
+      {"elastic 1 off-axis dcu euler", points({0.3, 0.7}), elastic(0.3, dcu, euler), 0.3, 0.9},
+  };
+  for (const Case& c : cases) {
+    BOOST_TEST_CONTEXT(c.name) {
+      L2Criterion l2(build_one_step_map(c.layout, c.setting));
+      const auto fails = [&](double courant) {
+        for (int i = 0; i <= 96; ++i)
+          for (int j = 0; j < 192; ++j)
+            if (l2.spectral_radius(courant, std::numbers::pi * i / 96,
+                                   -std::numbers::pi + 2 * std::numbers::pi * (j + 1) / 192) >
+                1 + 1e-10)
+              return true;
+        return false;
+      };
+      double lo = c.lo, hi = c.hi;
+      BOOST_TEST_REQUIRE(!fails(lo));
+      BOOST_TEST_REQUIRE(fails(hi));
+      for (int k = 0; k < 30; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (fails(mid) ? hi : lo) = mid;
+      }
+      const double search = limit(c.layout, c.setting);
+      BOOST_TEST_MESSAGE(c.name << ": dense scan " << lo << ", search " << search);
+      BOOST_TEST(search <= lo * (1 + 1e-6));  // the margin's tolerance lets rho - 1 ~ 1e-7 pass
+      BOOST_TEST(search >= 0.99 * lo);
+    }
+  }
+}
