@@ -147,6 +147,16 @@ BOOST_AUTO_TEST_CASE(rk2_with_an_off_centre_particle_has_a_weak_long_wave_instab
              boost::test_tools::tolerance(0.01));
   BOOST_TEST(l2.spectral_radius(0.4, 0.0, std::numbers::pi / 2) == 1.0,
              boost::test_tools::tolerance(1e-12));
+  // The slope off the line, a = d rho / d theta_x at theta_x = 0+, grows like C^3, about
+  // 0.016 C^3 per radian (one-sided second-order difference, as the criterion measures it).
+  const auto slope = [&](double c) {
+    const double d = 1e-3, y = std::numbers::pi / 2;
+    const double f0 = l2.spectral_radius(c, 0, y) - 1, f1 = l2.spectral_radius(c, d, y) - 1,
+                 f2 = l2.spectral_radius(c, 2 * d, y) - 1;
+    return (4 * f1 - f2 - 3 * f0) / (2 * d);
+  };
+  BOOST_TEST(slope(0.1) / 1e-3 == 0.016, boost::test_tools::tolerance(0.1));
+  BOOST_TEST(slope(0.2) / slope(0.1) == 8.0, boost::test_tools::tolerance(0.1));
   const CourantResult r = admissible_courant(off, elastic(0.3, dcu, rk2), Criterion::l2);
   BOOST_TEST(r.courant < 0.05);
   BOOST_TEST(std::abs(r.critical_theta_y) == std::numbers::pi / 2,
