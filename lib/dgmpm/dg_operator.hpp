@@ -142,15 +142,8 @@ class DGOperator {
       if (!disc_.occupied(c)) continue;
       project_cell(c, qp, mass, q);
       const int side = cm >= 0 ? 1 : 0;  // the cell's side the edge is on
-      State e = State::Zero();
-      for (int a = 0; a < npc; ++a)
-        if (((a >> l) & 1) == side) e += q.col(a);
-      e *= 1.0 / face_nodes;
       const auto& mat = disc_.cell_material(c);
-      const FaceCondition& fc = conditions_[face_boundary_[l][f]];
-      const State g = Physics::ghost(fc.kind, condition_value(fc, t), l, e, mat);
-      const State star =
-          side ? Physics::riemann(l, e, mat, g, mat) : Physics::riemann(l, g, mat, e, mat);
+      const State star = boundary_star(l, f, edge_average(q, l, side), mat, side, t);
       // -F_n's momentum rows are sigma* e_l; along the outward normal (+-e_l), times v*.
       const State fl = Physics::flux(l, star, mat);
       double p = 0;
@@ -280,12 +273,26 @@ class DGOperator {
     return b >= 0 ? conditions_[b].kind : BoundaryKind::free;
   }
 
-  // Average of cell c's nodal states on its `side` along axis l.
-  State edge_state(const NodalField& qn, int c, int l, int side) const {
+  // Average of a cell's nodal states (its npc columns) on its `side` along axis l.
+  template <class Block>
+  static State edge_average(const Block& q, int l, int side) {
     State s = State::Zero();
     for (int a = 0; a < npc; ++a)
-      if (((a >> l) & 1) == side) s += qn.col(c * npc + a);
+      if (((a >> l) & 1) == side) s += q.col(a);
     return s * (1.0 / face_nodes);
+  }
+  State edge_state(const NodalField& qn, int c, int l, int side) const {
+    return edge_average(qn.template middleCols<npc>(c * npc), l, side);
+  }
+
+  // Star state of boundary face f (grid side or void neighbour) from the inside edge state q of
+  // the occupied cell, on its plus side (side 1: the face is its upper one) or minus side.
+  State boundary_star(int l, int f, const State& q, const Material& mat, int side, double t) const {
+    const int b = face_boundary_[l][f];
+    const State g =
+        b >= 0 ? Physics::ghost(conditions_[b].kind, condition_value(conditions_[b], t), l, q, mat)
+               : Physics::ghost(BoundaryKind::free, Vec::Zero(), l, q, mat);
+    return side ? Physics::riemann(l, q, mat, g, mat) : Physics::riemann(l, g, mat, q, mat);
   }
 
   bool occupied(int c) const { return c >= 0 && disc_.occupied(c); }
@@ -298,14 +305,8 @@ class DGOperator {
       star = Physics::riemann(l, edge_state(qn, cm, l, 1), disc_.cell_material(cm),
                               edge_state(qn, cp, l, 0), disc_.cell_material(cp));
     } else if (here || there) {
-      const int c = here ? cm : cp;
-      const auto& mat = disc_.cell_material(c);
-      const State q = edge_state(qn, c, l, here ? 1 : 0);
-      const int b = face_boundary_[l][f];
-      const State g = b >= 0 ? Physics::ghost(conditions_[b].kind,
-                                              condition_value(conditions_[b], t), l, q, mat)
-                             : Physics::ghost(BoundaryKind::free, Vec::Zero(), l, q, mat);
-      star = here ? Physics::riemann(l, q, mat, g, mat) : Physics::riemann(l, g, mat, q, mat);
+      const int c = here ? cm : cp, side = here ? 1 : 0;
+      star = boundary_star(l, f, edge_state(qn, c, l, side), disc_.cell_material(c), side, t);
     } else {
       return false;
     }
