@@ -140,33 +140,18 @@ struct PlaneStrain {
     return s;
   }
 
-  // Ghost state (specific) outside an edge normal to `axis` whose inside state is q.
-  // Traction value: (sigma_nn, sigma_nt) prescribed; velocity value: (v_x, v_y).
+  // Ghost state (specific) outside an edge normal to `axis` whose inside state is q: the mirror
+  // image R q (reflect, below) plus twice the prescribed data. Traction value: (sigma_nn,
+  // sigma_nt) prescribed; velocity value: (v_x, v_y).
   static State ghost(BoundaryKind kind, const Vec& value, int axis, const State& q,
                      const Material& m) {
-    const int nn = normal_stress(axis), vn = normal_velocity(axis);
-    State g = q;
-    switch (kind) {
-      case BoundaryKind::free:
-        g[nn] = -q[nn];
-        g[sxy] = -q[sxy];
-        break;
-      case BoundaryKind::traction:
-        g[nn] = 2.0 * value[0] / m.density - q[nn];
-        g[sxy] = 2.0 * value[1] / m.density - q[sxy];
-        break;
-      case BoundaryKind::fixed:
-        g[vx] = -q[vx];
-        g[vy] = -q[vy];
-        break;
-      case BoundaryKind::velocity:
-        g[vx] = 2.0 * value[0] - q[vx];
-        g[vy] = 2.0 * value[1] - q[vy];
-        break;
-      case BoundaryKind::roller:
-        g[vn] = -q[vn];
-        g[sxy] = -q[sxy];
-        break;
+    State g = reflect(kind, axis, q);
+    if (kind == BoundaryKind::traction) {
+      g[normal_stress(axis)] += 2.0 * value[0] / m.density;
+      g[sxy] += 2.0 * value[1] / m.density;
+    } else if (kind == BoundaryKind::velocity) {
+      g[vx] += 2.0 * value[0];
+      g[vy] += 2.0 * value[1];
     }
     return g;
   }
@@ -205,7 +190,8 @@ struct PlaneStrain {
     return r;
   }
 
-  // The mirror image under a boundary normal to `axis`: the linear part of the ghost rule.
+  // The mirror image under a boundary normal to `axis`: the linear part of the ghost rule (the
+  // ghost is built from it), used by CTU's mirror rule.
   static State reflect(BoundaryKind kind, int axis, const State& w) {
     State r = w;
     switch (kind) {
