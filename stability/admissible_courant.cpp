@@ -32,9 +32,14 @@ CourantResult admissible_courant(const OneStepMap& map, Criterion criterion,
     options.margin_tolerance = std::max(options.margin_tolerance, map.round_off_level());
   if (criterion == Criterion::l2) {
     L2Criterion l2(map);
-    if (map.setting.dim > 1)
+    if (map.setting.dim > 1) {
       options.margin_tolerance = std::max(options.margin_tolerance, kL2MarginTolerance2D);
-    s = search_admissible_courant([&](double c) { return l2.margin(c).value; }, options);
+      // A 2D margin costs hundreds of eigenproblems: the scan is coarser than in 1D.
+      options.scan_step = std::max(options.scan_step, kL2ScanStep2D);
+    }
+    const double tolerance = options.margin_tolerance;
+    s = search_admissible_courant([&](double c) { return l2.margin(c, tolerance).value; }, options,
+                                  [&](double c) { return l2.margin(c).value; });
     if (s.bounded) {
       const L2Margin m = l2.margin(s.failing_courant);
       r.direction = map.families[m.family].direction;

@@ -21,10 +21,38 @@ double shifted_margin(double courant, void* data) {
   return s.margin(courant) - s.tolerance;
 }
 
+// C* from the final bracket [lo, hi]. A margin tolerance lets C a little above the true limit
+// pass: lo may sit above it by margin(lo) / (the margin's slope past the limit), so twice that
+// (slope measured just above hi, margins evaluated in full) is taken off, never below the last
+// scanned C that passed. A larger overshoot than 1e-5 lo means a margin that grows so slowly past
+// the limit that the limit is the tolerance's (a weak instability at every C): lo is kept. The
+// result is rounded to `digits` significant digits: down, or up only to a value that passes with
+// a tenth of the tolerance (a neutral limit, as at an exact Courant number 1, then comes back as
+// exactly 1).
+double conservative_courant(double lo, double hi, double scanned,
+                            const std::function<double(double)>& margin, double tolerance,
+                            int digits) {
+  if (!(lo > 0.0)) return lo;
+  double c = lo;
+  if (const double at_lo = margin(lo); at_lo > 0.0) {
+    const double probe = hi + std::max(1e-4 * hi, hi - lo);
+    const double at_probe = margin(probe);
+    const double overshoot = 2.0 * at_lo * (probe - lo) / (at_probe - at_lo);
+    if (at_probe > at_lo && overshoot <= 1e-5 * lo) c = std::max(scanned, lo - overshoot);
+  }
+  if (digits <= 0) return c;
+  // Divided by an exact power of ten, so that 0.9839554 prints as such.
+  const double scale = std::pow(10.0, (digits - 1) - std::floor(std::log10(c)));
+  const double nearest = std::round(c * scale) / scale;
+  if (nearest <= c || (nearest < hi && margin(nearest) <= 0.1 * tolerance)) return nearest;
+  return std::floor(c * scale) / scale;
+}
+
 }  // namespace
 
 SearchResult search_admissible_courant(const std::function<double(double)>& margin,
-                                       const SearchOptions& options) {
+                                       const SearchOptions& options,
+                                       const std::function<double(double)>& full_margin) {
   if (!(options.scan_step > 0.0 && options.max_courant > 0.0 && options.courant_tolerance > 0.0))
     throw std::invalid_argument("search_admissible_courant: steps and bounds must be positive");
   SearchResult result;
@@ -48,6 +76,7 @@ SearchResult search_admissible_courant(const std::function<double(double)>& marg
     result.bounded = false;
     return result;
   }
+  const double scanned = lo;
   // Refine: Brent keeps a sign change in its bracket, not necessarily the first one when several
   // transitions hide between two scan points; both ends are checked, and the search goes on in
   // the part of the bracket that still starts passing and ends failing.
@@ -80,7 +109,14 @@ SearchResult search_admissible_courant(const std::function<double(double)>& marg
       lo = x_lower, hi = x_upper;
   }
   gsl_root_fsolver_free(solver);
-  result.courant = lo;
+  const auto& full = full_margin ? full_margin : margin;
+  result.courant = conservative_courant(
+      lo, hi, scanned,
+      [&](double c) {
+        ++result.evaluations;
+        return full(c);
+      },
+      options.margin_tolerance, options.significant_digits);
   result.failing_courant = hi;
   return result;
 }

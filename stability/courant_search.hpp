@@ -11,18 +11,22 @@ struct SearchOptions {
   double scan_step = 0.01;          // the scan cannot see a failing window narrower than this
   double max_courant = 4.0;         // nothing failing up to here: reported as unbounded
   double courant_tolerance = 1e-9;  // width of the final bracket
+  int significant_digits = 7;       // C* rounded to these (0: not rounded), never up past a limit
   double margin_tolerance = 0.0;    // C passes when margin(C) <= margin_tolerance
 };
 
 struct SearchResult {
-  double courant = 0.0;          // C*: passes, as does every scanned C below it
+  double courant = 0.0;  // C*: passes, as does every scanned C below it (rounded: SearchOptions)
   double failing_courant = 0.0;  // fails, within courant_tolerance above C*
   bool bounded = true;           // false: nothing failed up to max_courant (courant = max)
   int evaluations = 0;
 };
 
-// margin(C) is called for C in (0, max_courant]; C = 0 is taken to pass.
+// margin(C) is called for C in (0, max_courant]; C = 0 is taken to pass. A margin may stop early
+// once it knows it exceeds the tolerance; full_margin (default: margin) is then the margin in
+// full, used where its value matters (C* is made conservative from it: see courant_search.cpp).
 SearchResult search_admissible_courant(const std::function<double(double)>& margin,
-                                       const SearchOptions& options);
+                                       const SearchOptions& options,
+                                       const std::function<double(double)>& full_margin = {});
 
 }  // namespace dgmpm::stability

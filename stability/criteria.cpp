@@ -10,6 +10,7 @@
 #include <gsl/gsl_multimin.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -254,7 +255,6 @@ double negated_torus(const gsl_vector* x, void* profile) {
 
 void refine_torus_maximum(const TorusProfile& profile, double tx, double ty, double step,
                           L2Margin& best) {
-  GslErrorsAsCodes guard;
   gsl_multimin_function f{&negated_torus, 2, const_cast<TorusProfile*>(&profile)};
   gsl_vector* x = gsl_vector_alloc(2);
   gsl_vector* steps = gsl_vector_alloc(2);
@@ -279,22 +279,33 @@ void refine_torus_maximum(const TorusProfile& profile, double tx, double ty, dou
   gsl_vector_free(x);
 }
 
-L2Margin torus_margin(FamilySpectrum& spectrum, double courant) {
+// stop_above: the caller only needs to know whether the margin exceeds it, so the point that
+// exceeded it last time (`hint`) is tried first, and refinement is skipped once the scan exceeds
+// it. Points are evaluated in parallel but combined in a fixed order: the result does not depend on
+// the number of threads.
+L2Margin torus_margin(FamilySpectrum& spectrum, double courant, double stop_above,
+                      std::pair<double, double>& hint) {
   spectrum.set_courant(courant);
   const TorusProfile profile{spectrum};
+  if (stop_above < std::numeric_limits<double>::infinity() && (hint.first || hint.second)) {
+    const double v = profile(hint.first, hint.second);
+    if (v > stop_above) return {v, std::abs(hint.first), hint.second, 0};
+  }
   L2Margin best{-std::numeric_limits<double>::infinity(), 0.0, 0.0, 0};
   // Long waves: the limit at 0 along each direction of the half plane.
-  for (int k = 0; k < kRays2D; ++k) {
-    const double phi = -0.5 * std::numbers::pi + std::numbers::pi * k / kRays2D;
-    const double limit = profile.ray(phi).first;
-    if (limit > best.value) best = {limit, 0.0, 0.0, 0};
-  }
+  double ray_limits[kRays2D];
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < kRays2D; ++k)
+    ray_limits[k] = profile.ray(-0.5 * std::numbers::pi + std::numbers::pi * k / kRays2D).first;
+  for (int k = 0; k < kRays2D; ++k)
+    if (ray_limits[k] > best.value) best = {ray_limits[k], 0.0, 0.0, 0};
   const double h = std::numbers::pi / kScan2D;
   const int nx = kScan2D + 1, ny = 2 * kScan2D;
   std::vector<double> values(static_cast<std::size_t>(nx * ny));
   const auto at = [&](int i, int j) -> double& {
     return values[static_cast<std::size_t>(i * ny + ((j % ny) + ny) % ny)];
   };
+#pragma omp parallel for schedule(dynamic)
   for (int i = 0; i < nx; ++i)
     for (int j = 0; j < ny; ++j) {
       const double tx = i * h, ty = (j - kScan2D + 1) * h;
@@ -322,20 +333,34 @@ L2Margin torus_margin(FamilySpectrum& spectrum, double courant) {
       if (is_max) maxima.push_back({v, {i, j}});
       if (v > best.value) best = {v, i * h, (j - kScan2D + 1) * h, 0};
     }
+  const auto finish = [&] {
+    best.theta = std::abs(best.theta);
+    if (best.value > stop_above) hint = {best.theta, best.theta_y};
+    return best;
+  };
+  if (best.value > stop_above) return finish();
   std::sort(maxima.begin(), maxima.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
   // Refinement sharpens the largest maxima, but not the neutral points of the axis lines (rho = 1
   // there: the slope checks below decide). (Skipping maxima below a threshold is unsafe: a peak
   // between grid points can lie above zero while the scan's values are below -1e-3.)
-  std::size_t refined = 0;
-  for (std::size_t k = 0; k < maxima.size() && refined < kRefined2D; ++k) {
+  std::vector<std::pair<int, int>> starts;
+  for (std::size_t k = 0; k < maxima.size() && starts.size() < kRefined2D; ++k) {
     const auto [i, j] = maxima[k].second;
     const bool on_axis_line = i == 0 || j == kScan2D - 1;
     const bool neutral = on_axis_line && std::abs(maxima[k].first) < 1e-9;  // rho = 1 there
-    if (neutral) continue;
-    ++refined;
-    refine_torus_maximum(profile, i * h, (j - kScan2D + 1) * h, h, best);
+    if (!neutral) starts.push_back({i, j});
   }
+  std::vector<L2Margin> refined(starts.size(), best);
+  {
+    GslErrorsAsCodes guard;  // set once: the handler is global
+#pragma omp parallel for schedule(dynamic)
+    for (std::size_t k = 0; k < starts.size(); ++k)
+      refine_torus_maximum(profile, starts[k].first * h, (starts[k].second - kScan2D + 1) * h, h,
+                           refined[k]);
+  }
+  for (const auto& r : refined)
+    if (r.value > best.value) best = r;
   // The neutral lines: slope of rho off theta_x = 0 (toward theta_x > 0) and off theta_y = 0
   // (both ways, theta_x in [0, pi] only), where rho = 1 on the line.
   const auto slope = [&](double tx, double ty, double dx, double dy) {
@@ -345,29 +370,39 @@ L2Margin torus_margin(FamilySpectrum& spectrum, double courant) {
     const double f2 = spectrum.radius(tx + 2 * dx, ty + 2 * dy) - 1.0;
     return (4.0 * f1 - f2 - 3.0 * f0) / (2.0 * kLine2D);
   };
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  std::vector<std::array<double, 3>> slopes(static_cast<std::size_t>(ny), {kNone, kNone, kNone});
+#pragma omp parallel for schedule(dynamic)
   for (int j = 0; j < ny; ++j) {
     const double t = (j - kScan2D + 1) * h;
     if (std::abs(t) < 2.0 * kSmall2D) continue;  // the origin is the rays' business
-    if (const double a = slope(0.0, t, kLine2D, 0.0); a > best.value) best = {a, kLine2D, t, 0};
-    if (t > 0)
-      for (double dy : {kLine2D, -kLine2D})
-        if (const double a = slope(t, 0.0, 0.0, dy); a > best.value) best = {a, t, dy, 0};
+    slopes[j][0] = slope(0.0, t, kLine2D, 0.0);
+    if (t > 0) {
+      slopes[j][1] = slope(t, 0.0, 0.0, kLine2D);
+      slopes[j][2] = slope(t, 0.0, 0.0, -kLine2D);
+    }
   }
-  best.theta = std::abs(best.theta);
-  return best;
+  for (int j = 0; j < ny; ++j) {
+    const double t = (j - kScan2D + 1) * h;
+    if (slopes[j][0] > best.value) best = {slopes[j][0], kLine2D, t, 0};
+    if (slopes[j][1] > best.value) best = {slopes[j][1], t, kLine2D, 0};
+    if (slopes[j][2] > best.value) best = {slopes[j][2], t, -kLine2D, 0};
+  }
+  return finish();
 }
 
 }  // namespace
 
 L2Criterion::L2Criterion(const OneStepMap& map) : dim_(map.setting.dim) {
   for (const auto& f : map.families) families_.emplace_back(f);
+  hints_.resize(families_.size(), {0.0, 0.0});
 }
 
-L2Margin L2Criterion::margin(double courant) {
+L2Margin L2Criterion::margin(double courant, double stop_above) {
   L2Margin worst;
   for (std::size_t f = 0; f < families_.size(); ++f) {
-    L2Margin m =
-        dim_ == 1 ? family_margin(families_[f], courant) : torus_margin(families_[f], courant);
+    L2Margin m = dim_ == 1 ? family_margin(families_[f], courant)
+                           : torus_margin(families_[f], courant, stop_above, hints_[f]);
     m.family = static_cast<int>(f);
     if (f == 0 || m.value > worst.value) worst = m;
   }

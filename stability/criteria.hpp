@@ -13,6 +13,8 @@
 
 #include <Eigen/Core>
 #include <complex>
+#include <limits>
+#include <utility>
 #include <vector>
 
 namespace dgmpm::stability {
@@ -22,6 +24,8 @@ constexpr double kL2MarginTolerance = 1e-9;
 // 2D: eigenvalues of up to 20 x 20 symbols, and a margin divided by |theta|^2 / 2 down to
 // |theta| = 0.05 (see criteria.cpp).
 constexpr double kL2MarginTolerance2D = 1e-7;
+// 2D L2 search: scan step in C (the scan cannot see a failing window narrower than this).
+constexpr double kL2ScanStep2D = 0.05;
 constexpr double kMonotoneMarginTolerance = 1e-12;
 
 // Spectral radius of one family's G(theta) at a fixed C. Every particle value after a step is
@@ -56,12 +60,15 @@ struct L2Margin {
 class L2Criterion {
  public:
   explicit L2Criterion(const OneStepMap& map);
-  L2Margin margin(double courant);
+  // stop_above (2D): a caller that only needs to know whether the margin exceeds it may get, when
+  // it does, a value above it that is not the maximum (cheaper: refinements are skipped).
+  L2Margin margin(double courant, double stop_above = std::numeric_limits<double>::infinity());
   // max over families of rho(G(theta)) at C.
   double spectral_radius(double courant, double theta, double theta_y = 0.0);
 
  private:
   std::vector<FamilySpectrum> families_;
+  std::vector<std::pair<double, double>> hints_;  // per family: where the margin last exceeded
   int dim_ = 1;
 };
 

@@ -178,7 +178,9 @@ BOOST_AUTO_TEST_CASE(fill_correction_makes_monotone_auto_keep_the_range) {
   json doc = moving_two_bar("auto", "monotone");
   doc["fill_correction"] = true;
   BarSimulation sim(scene::parse_scene(doc));
-  const double t_end = 150 * dx / c, tol = 1e-9 * Z * v0, e0 = sim.energy();
+  // tol: the cache's layout quantisation moves a particle by up to 2^-9 of its distance to a node,
+  // so a step can land a hair above the real layout's limit (overshoots near 2e-9 Z v0 are seen).
+  const double t_end = 150 * dx / c, tol = 1e-8 * Z * v0, e0 = sim.energy();
   double worst_w = 0, min_stress = 0, max_stress_before_140 = 0, max_stress = 0, max_energy = e0;
   long steps = 0;
   while (sim.time() < t_end * (1 - 1e-12)) {
@@ -341,7 +343,7 @@ BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
                                          << ", at 500 steps " << e500 / e0 << ", at 2000 "
                                          << sim.energy() / e0);
   BOOST_TEST((!first.failed && !later.failed));
-  BOOST_TEST(sim.energy() <= e500);
+  BOOST_TEST(sim.energy() <= e500 * (1 + 1e-10));  // settled, to round-off
   // Without the rule (the full layout's C*, above the scene limit found above) it blows up.
   json without = doc;
   without["time"]["courant"] = full_layout;

@@ -150,7 +150,8 @@ void check_quantisation_error(TimeScheme scheme, Criterion criterion, int sample
 
 }  // namespace
 
-// One particle: C* = 1 wherever it sits, rounded or not (even when rounded onto a node).
+// One particle: C* = 1 wherever it sits, rounded or not (even when rounded onto a node), to the
+// 7 significant digits C* is given in (rounded down where round-off reaches the tolerance at 1).
 BOOST_AUTO_TEST_CASE(one_particle_layouts_lose_nothing) {
   std::vector<double> xs;
   for (int j = 0; j < 20; ++j) xs.push_back((j + 0.3712) / 20);
@@ -164,9 +165,10 @@ BOOST_AUTO_TEST_CASE(one_particle_layouts_lose_nothing) {
         BOOST_TEST_CONTEXT(stability::to_string(scheme)
                            << "/" << stability::to_string(criterion) << ", xi = " << x) {
           const CellLayout exact{{x}, {}};
-          BOOST_TEST(courant(exact, scheme, criterion) == 1.0, boost::test_tools::tolerance(1e-8));
+          BOOST_TEST(courant(exact, scheme, criterion) == 1.0, boost::test_tools::tolerance(2e-7));
+          BOOST_TEST(courant(exact, scheme, criterion) <= 1.0);
           BOOST_TEST(courant(quantised(exact), scheme, criterion) == 1.0,
-                     boost::test_tools::tolerance(1e-8));
+                     boost::test_tools::tolerance(2e-7));
         }
 }
 

@@ -78,6 +78,24 @@ BOOST_AUTO_TEST_CASE(published_values) {
              boost::test_tools::tolerance(1e-6));
 }
 
+// Limits that are exact in exact arithmetic come back exact, not as the 1 + 1e-7 that the
+// margin's round-off tolerance lets pass (a time step that much above 1 makes the energy grow);
+// others are never above the true value, and within a few units of the 7th digit below it.
+BOOST_AUTO_TEST_CASE(exact_limits_come_back_exact) {
+  const CellLayout centre = points({0.5, 0.5});
+  BOOST_TEST(limit(centre, elastic(0.3, dcu, rk2)) == 1.0);
+  BOOST_TEST(limit(centre, elastic(0.3, ctu, euler)) == 1.0);
+  BOOST_TEST(limit(centre, advection(1, 1, dcu, euler)) == 0.5);
+  BOOST_TEST(limit(regular_layout(2, 2), elastic(0.3, dcu, rk2)) == 1.0);
+  const double c = limit(centre, advection(1, 0.4, dcu, euler));
+  BOOST_TEST(c <= 1 / 1.4);
+  BOOST_TEST(c >= 1 / 1.4 - 3e-7);
+  // 1D, one particle anywhere: exactly 1.
+  for (double x : {0.5, 0.3712, 0.01856})
+    BOOST_TEST(admissible_courant(CellLayout{{x}, {}}, TimeScheme::euler, Criterion::l2).courant ==
+               1.0);
+}
+
 // b = 0 and a layout that repeats along y: the 1D problem, with the 1D L2 limit of the x
 // positions. The monotone criterion needs a single row of particles: with two rows, the map
 // mixes them with different weights in its identity and operator parts, and its row sums of
