@@ -127,8 +127,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene)
     stepper_->rebuild(problem_.particles, problem_.materials);
     time_control_.emplace(scene_);
     dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
-    if constexpr (dim == 1)
-      if (!time_control_->automatic()) warn_if_above_admissible();
+    if (!time_control_->automatic()) warn_if_above_admissible();
     if (!scene_.fill_correction) warn_if_overfull_cell(0, 0.0);
     if (dim > 1 && scene_.flux == FluxScheme::ctu && scene_.time.integrator == TimeScheme::rk2)
       warnings_.push_back(
@@ -155,20 +154,36 @@ Simulation<Physics>::~Simulation() = default;
 
 template <class Physics>
 void Simulation<Physics>::warn_if_above_admissible() {
-  if constexpr (dim == 1) {
-    const auto limit = time_control_->smallest_admissible(
-        stepper_->discretisation(), problem_.particles, problem_.grid.cell_volume());
-    if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
-    std::ostringstream s;
-    s << "Courant number " << scene_.time.courant << " is above the admissible "
-      << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
-      << ", " << scene::to_string(scene_.time.integrator) << ") of the layout of cell "
-      << limit.cell << " (positions " << stability::describe(limit.layout.positions) << ", masses "
-      << stability::describe(limit.layout.masses) << (limit.fill < 1 ? ", fill " : "");
-    if (limit.fill < 1) s << limit.fill;
-    s << "): the run may be unstable";
-    warnings_.push_back(s.str());
+  // A 2D layout takes 0.1-3 s to analyse: a scene of many distinct layouts is not checked, and
+  // says so.
+  constexpr int kMaxLayouts2D = 16;
+  const auto& disc = stepper_->discretisation();
+  if (dim > 1) {
+    const int layouts = time_control_->layouts_to_analyse(disc, problem_.particles);
+    if (layouts > kMaxLayouts2D) {
+      warnings_.push_back(
+          "Courant number " + std::to_string(scene_.time.courant) +
+          " not checked against the admissible one: " + std::to_string(layouts) +
+          " distinct cell layouts (more than " + std::to_string(kMaxLayouts2D) +
+          " take long to analyse in 2D); \"courant\": \"auto\" analyses them "
+          "as the run needs them, `dgmpm courant --scene` analyses the whole scene");
+      return;
+    }
   }
+  const auto limit =
+      time_control_->smallest_admissible(disc, problem_.particles, problem_.grid.cell_volume());
+  if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
+  std::ostringstream s;
+  s << "Courant number " << scene_.time.courant << " is above the admissible "
+    << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
+    << ", " << scene::to_string(scene_.time.integrator);
+  if (dim > 1) s << ", " << to_string(scene_.flux);
+  s << ") of the layout of cell " << limit.cell << " (positions "
+    << stability::describe_positions(limit.layout) << ", masses "
+    << stability::describe(limit.layout.masses);
+  if (limit.fill < 1 - 1e-9) s << ", fill " << limit.fill;
+  s << "): the run may be unstable";
+  warnings_.push_back(s.str());
 }
 
 // A cell whose particles carry more than rho times its volume (moving particles piling up) breaks

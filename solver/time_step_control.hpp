@@ -24,6 +24,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <vector>
 
 namespace dgmpm {
@@ -106,6 +107,21 @@ class TimeStepControl : public LayoutQuantisation {
         limit = {cs, c, fill(disc, c, cell_volume), layout_of(disc, particles, c)};
     }
     return limit;
+  }
+
+  // Distinct layouts of the occupied cells that are not analysed yet (what smallest_admissible
+  // would analyse), without analysing them.
+  int layouts_to_analyse(const Disc& disc, const ParticleSet& particles) {
+    std::set<std::vector<double>> keys;
+    for (int c = 0; c < disc.num_cells(); ++c) {
+      if (!disc.occupied(c)) continue;
+      if (disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_ &&
+          lone_particle_courant_ > 0.0)
+        continue;
+      fill_key(disc, particles, c);
+      if (!cache_.count(key_)) keys.insert(key_);
+    }
+    return static_cast<int>(keys.size());
   }
 
   // Distinct layouts analysed so far (cache misses).

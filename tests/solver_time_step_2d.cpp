@@ -10,7 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 using namespace dgmpm;
 using json = nlohmann::json;
@@ -121,4 +123,47 @@ BOOST_AUTO_TEST_CASE(monotone_auto_is_refused_in_2d) {
                         [](const scene::SceneError& e) {
                           return std::string(e.what()).find("time.criterion") != std::string::npos;
                         });
+}
+
+// A fixed Courant number above the admissible one of some cell's layout is warned about, naming
+// the cell's layout and the limit (four particles, DCU Euler: 0.546); at or below it, nothing.
+BOOST_AUTO_TEST_CASE(fixed_courant_above_the_limit_is_warned_about) {
+  const auto with_courant = [](double courant) {
+    json doc = scene_with({body(0.0, 0.4, {{"particles_per_cell", {1, 1}}}),
+                           body(0.4, 0.8, {{"particles_per_cell", {2, 2}}})},
+                          "dcu", "euler");
+    doc["time"]["courant"] = courant;
+    return PlaneStrainSimulation(scene::parse_scene(doc)).warnings();
+  };
+  const double four =
+      stability::admissible_courant(stability::regular_layout(2, 2), plane_strain("dcu", "euler"),
+                                    stability::Criterion::l2)
+          .courant;
+  BOOST_TEST(with_courant(four).empty());
+  const auto above = with_courant(0.6);  // below the one-particle 0.652, above 0.546
+  BOOST_TEST_REQUIRE(above.size() == 1u);
+  BOOST_TEST_MESSAGE(above.front());
+  BOOST_TEST(above.front().find("above the admissible 0.546") != std::string::npos);
+  BOOST_TEST(above.front().find(
+                 "positions 0.25:0.25, 0.25:0.75, 0.75:0.25, 0.75:0.75, masses 1, 1, 1, 1)") !=
+             std::string::npos);
+}
+
+// The shipped plate impact with "auto": one layout (one particle at the centre, DCU RK2), C* = 1,
+// so dt = min(dx, dy) / c_p; to the end the energy never exceeds the work of the load (the
+// whole-scene analysis, `dgmpm courant --scene scenes/plate_impact.json`, gives 0.998-1.001).
+BOOST_AUTO_TEST_CASE(plate_impact_runs_stably_with_auto) {
+  const auto path = std::filesystem::path(DGMPM_TEST_SOURCE_DIR) / "scenes" / "plate_impact.json";
+  scene::Scene s = scene::load_scene(path.string());
+  s.time.courant_auto = true;
+  PlaneStrainSimulation sim(s);
+  const double cp = std::sqrt(2e11 * (1 - 0.3) / ((1 + 0.3) * (1 - 0.6) * 7800));
+  BOOST_TEST(sim.stable_time_step() == 0.12 / cp, boost::test_tools::tolerance(1e-12));
+  double worst = 0;
+  while (sim.time() < s.time.end * (1 - 1e-12)) {
+    sim.step(std::min(sim.stable_time_step(), s.time.end - sim.time()));
+    worst = std::max(worst, sim.energy() - sim.boundary_work());
+  }
+  BOOST_TEST(sim.boundary_work() > 0.0);
+  BOOST_TEST(worst <= 1e-9 * sim.boundary_work());
 }
