@@ -93,17 +93,20 @@ class Mpm {
   void step(ParticleSet& particles, double t, double dt, bool move_particles) {
     locate(particles);
     project_mass_momentum(particles, vel_old_);
-    apply_velocity_bc(vel_old_, t);
+    apply_velocity_bc(vel_old_, t, &load_work_);
     if (variant_ == MpmVariant::usf) update_stress(particles, vel_old_, dt);
 
     force_.setZero(Dim, num_nodes_);
     add_internal_force(particles);
+    loaded_nodes_.clear();
     add_traction(t);
     vel_new_.resize(Dim, num_nodes_);
     for (int i = 0; i < num_nodes_; ++i)
       vel_new_.col(i) =
           mass_[i] > 0.0 ? Vec(vel_old_.col(i) + (dt / mass_[i]) * force_.col(i)) : Vec::Zero();
-    apply_velocity_bc(vel_new_, t + dt);
+    for (const auto& [i, f] : loaded_nodes_)
+      load_work_ += 0.5 * dt * f.dot(vel_old_.col(i) + vel_new_.col(i));
+    apply_velocity_bc(vel_new_, t + dt, &load_work_);
     update_particle_velocity(particles);
 
     const NodalVectors* v = &vel_new_;
@@ -115,6 +118,11 @@ class Mpm {
     if (variant_ != MpmVariant::usf) update_stress(particles, *v, dt);
     if (move_particles) move(particles, *v, dt);
   }
+
+  // Energy the boundaries gave the body so far: work of the tractions on the nodal velocities
+  // (trapezoidal over the step) and of the velocity constraints' reactions. An estimate for the
+  // blow-up check, not an exact balance: MPM conserves no discrete energy.
+  double load_work() const { return load_work_; }
 
  private:
   // --- constitutive part, from the physics ------------------------------------------------------
@@ -259,7 +267,9 @@ class Mpm {
   // Fixed and velocity faces: the nodal velocity is the prescribed one; roller faces: its normal
   // component is zero. Imposed on v^n and on v^{n+1}, so the nodal acceleration there is that of
   // the prescription (zero when fixed).
-  void apply_velocity_bc(NodalVectors& v, double t) const {
+  // Also adds to `injected` the kinetic energy the constraint gives the grid, 1/2 m (|v_bc|^2 -
+  // |v|^2) per constrained node (the work of its reaction).
+  void apply_velocity_bc(NodalVectors& v, double t, double* injected = nullptr) const {
     for (int l = 0; l < Dim; ++l) {
       if (grid_.periodic[l]) continue;
       for (int side = 0; side < 2; ++side) {
@@ -268,9 +278,11 @@ class Mpm {
         for_each_face_node(l, side, [&](int i, const Vec& x, const Vec&, const Vec&) {
           const auto* bc = bs.at(x, l);
           if (!bc) return;
+          const double before = injected ? v.col(i).squaredNorm() : 0.0;
           if (bc->kind == BoundaryKind::fixed) v.col(i).setZero();
           if (bc->kind == BoundaryKind::velocity) v.col(i) = bc->value(t);
           if (bc->kind == BoundaryKind::roller) v(l, i) = 0.0;
+          if (injected) *injected += 0.5 * mass_[i] * (v.col(i).squaredNorm() - before);
         });
       }
     }
@@ -291,13 +303,18 @@ class Mpm {
           if constexpr (Dim > 1) traction[1 - l] = value[1];
           if (!side) traction = -traction;
           for_each_face_node(l, side, [&](int i, const Vec& x, const Vec& lo, const Vec& hi) {
-            if (mass_[i] > 0.0) force_.col(i) += face_weight(x, lo, hi, s, l) * traction;
+            if (mass_[i] <= 0.0) return;
+            const Vec f = face_weight(x, lo, hi, s, l) * traction;
+            force_.col(i) += f;
+            loaded_nodes_.emplace_back(i, f);
           });
         }
       }
     }
   }
 
+  double load_work_ = 0;
+  std::vector<std::pair<int, Vec>> loaded_nodes_;  // traction forces of this step
   Grid<Dim> grid_;
   Boundaries<Dim> bc_;
   std::vector<Material> materials_;

@@ -420,7 +420,9 @@ class Parser {
   }
 
   TimeSpec parse_time(const json& t) const {
-    check_object(t, "time", {"end", "integrator", "courant", "criterion", "safety"});
+    check_object(
+        t, "time",
+        {"end", "integrator", "courant", "criterion", "safety", "blow_up_check", "blow_up_factor"});
     TimeSpec time;
     time.end = positive(require(t, "time", "end", "a number > 0"), "time.end");
     if (const json* i = find(t, "integrator"))
@@ -447,6 +449,19 @@ class Parser {
       const std::string allowed = "0 < safety <= 1";
       time.safety = number(*s, "time.safety", allowed);
       if (!(time.safety > 0 && time.safety <= 1)) not_allowed("time.safety", *s, allowed);
+    }
+    if (const json* b = find(t, "blow_up_check")) {
+      if (!b->is_boolean()) not_allowed("time.blow_up_check", *b, "true or false");
+      time.blow_up_check = b->get<bool>();
+    }
+    if (const json* f = find(t, "blow_up_factor")) {
+      const std::string allowed = "a number > 1 (energy over initial energy plus load work)";
+      time.blow_up_factor = number(*f, "time.blow_up_factor", allowed);
+      if (!(time.blow_up_factor > 1 && std::isfinite(time.blow_up_factor)))
+        not_allowed("time.blow_up_factor", *f, allowed);
+      if (!time.blow_up_check)
+        refuse("time.blow_up_factor", *f, "is not allowed with \"blow_up_check\": false",
+               "only with the check on");
     }
     return time;
   }

@@ -69,6 +69,10 @@ struct TimeSpec {
   double courant = 1.0;  // when not auto
   Criterion criterion = Criterion::l2;
   double safety = 1.0;  // auto only
+  // A run stops (exit 1) when its energy exceeds blow_up_factor times (initial energy + work of
+  // the loads), unless blow_up_check is false.
+  bool blow_up_check = true;
+  double blow_up_factor = 10.0;
 };
 
 struct OutputSpec {

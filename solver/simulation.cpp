@@ -137,6 +137,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene)
           "exact at Courant 1 (use \"dcu\" with \"rk2\" or \"ctu\" with \"euler\")");
     loaded_ = has_loads<dim>(problem_.grid, problem_.boundaries);
     if (loaded_) power_ = load_power();
+    initial_energy_ = energy();
   } else {
     if (scene_.time.courant_auto)
       throw scene::SceneError(scene_.source +
@@ -146,6 +147,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene)
     dt_ = scene_.time.courant * h / problem_.max_wave_speed();
     mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
                                           mpm_variant(scene_.method), scene_.update);
+    initial_energy_ = energy();
   }
 }
 
@@ -245,6 +247,41 @@ void Simulation<Physics>::step(double dt) {
     work_ += 0.5 * dt * (power_ + power);
     power_ = power;
   }
+  // Energy is a pass over the particles: every kGrowthCheckInterval steps is enough to stop an
+  // exponential growth long before it overflows.
+  constexpr int kGrowthCheckInterval = 16;
+  if (scene_.time.blow_up_check && ++since_growth_check_ >= kGrowthCheckInterval) check_growth();
+}
+
+// Unbounded growth: the energy cannot exceed the initial energy plus the work the boundaries did
+// (DGMPM dissipates; MPM's balance is looser, hence a wide factor). Names the particle holding
+// the most energy.
+template <class Physics>
+void Simulation<Physics>::check_growth() {
+  since_growth_check_ = 0;
+  most_work_ = std::max(most_work_, mpm_ ? mpm_->load_work() : work_);
+  const double reference = initial_energy_ + most_work_;
+  const double e = energy();
+  if (!(e > scene_.time.blow_up_factor * reference && e > 0.0)) return;
+  const auto& p = problem_.particles;
+  int worst = 0;
+  double most = -1;
+  for (int i = 0; i < p.size(); ++i) {
+    const auto& m = problem_.materials[p.material[i]];
+    const double ei = p.mass[i] * (Physics::kinetic_energy_per_mass(p.state.col(i)) +
+                                   Physics::elastic_energy_per_mass(p.state.col(i), m));
+    if (ei > most) most = ei, worst = i;
+  }
+  Eigen::Matrix<double, dim, 1> xi;
+  const int cell = problem_.grid.locate(p.position.col(worst), xi);
+  std::ostringstream s;
+  s << format_step(steps_, time_) << ": the run is unstable: energy " << std::setprecision(6) << e
+    << " J is " << e / reference << " times the initial energy plus the work of the loads ("
+    << reference << " J; time.blow_up_factor " << scene_.time.blow_up_factor
+    << "); largest on particle " << p.id[worst] << " (x = " << p.position.col(worst).transpose()
+    << ", cell " << cell << ", " << most << " J). Lower the Courant number (or raise "
+    << "time.blow_up_factor, or set time.blow_up_check false to run on)";
+  throw std::runtime_error(s.str());
 }
 
 template <class Physics>
@@ -422,6 +459,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     }
   }
   if (progress) std::fprintf(stderr, "\r%78s\r", "");
+  if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
   if (vtu && writes && !series.empty()) {
     vtk::write_series(directory + "/particles.pvd", series);
     summary.files.push_back(directory + "/particles.pvd");

@@ -129,6 +129,7 @@ class Simulation final : public SimulationBase {
   // One step toward `target`, shortened to land on it; returns its length, 0 once there.
   double step_towards(double target);
   void check_finite() const;
+  void check_growth();
   void warn_if_above_admissible();
   void warn_if_overfull_cell(long step, double t);
   double load_power() const;
@@ -145,6 +146,8 @@ class Simulation final : public SimulationBase {
   bool loaded_ = false;  // some boundary does work (traction or velocity)
   long steps_ = 0;
   bool overfull_warned_ = false;
+  double initial_energy_ = 0, most_work_ = 0;  // for the blow-up check
+  int since_growth_check_ = 0;
 };
 
 using BarSimulation = Simulation<ElasticBar>;
