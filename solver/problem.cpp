@@ -155,7 +155,10 @@ void add_body_particles(const scene::Scene& scene, std::size_t body_index,
   constexpr int dim = Physics::dim;
   const scene::BodySpec& body = scene.bodies[body_index];
   const double density = scene.materials[body.material].density;
-  const std::vector<double>& w = body.masses_in_cell;
+  // Weights relative to the largest: 1e308 each would overflow their sum.
+  std::vector<double> w = body.masses_in_cell;
+  const double largest = *std::max_element(w.begin(), w.end());
+  for (double& x : w) x /= largest;
   const double wsum = std::accumulate(w.begin(), w.end(), 0.0);
   const auto state = initial_state(body, mat);
   const std::vector<scene::Seed> seeds = scene::body_seeds(scene, body_index);

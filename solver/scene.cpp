@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cfloat>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -101,7 +104,18 @@ std::string join(const std::vector<std::string>& names) {
 }
 
 std::string key_path(const std::string& parent, const std::string& key) {
-  return parent.empty() ? key : parent + "." + key;
+  // Control characters (a NUL would cut the message short) are shown as JSON escapes.
+  std::string shown;
+  for (const char ch : key) {
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned char>(ch));
+      shown += escape;
+    } else {
+      shown += ch;
+    }
+  }
+  return parent.empty() ? shown : parent + "." + shown;
 }
 
 std::string index_path(const std::string& parent, std::size_t i) {
@@ -238,11 +252,72 @@ class Parser {
     s.output.times = {s.time.end};
     s.output.vtu = s.dimension > 1;
     if (const json* o = find(doc, "output")) parse_output(*o, s);
+    check_double_range(s, doc);
     return s;
   }
 
  private:
   std::string source_;
+
+  // Values each valid alone can ask for physics outside the range of a double (a modulus of
+  // 1e308, a velocity of 1e308 m/s, a cell of 1e-320 m): the wave speed, impedance, the stress an
+  // impact makes, its energy density and the time step must be finite, normal numbers, or the
+  // first step turns them into inf or nan. Refused before any step, with the key responsible.
+  void check_double_range(const Scene& s, const json& doc) const {
+    const auto normal = [](double x) { return std::isfinite(x) && std::abs(x) >= DBL_MIN; };
+    const bool plane = s.dimension > 1;
+    std::vector<double> modulus, speed, impedance;
+    for (const MaterialSpec& m : s.materials) {
+      const double nu = m.poisson;
+      const double mod = plane ? m.young * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) : m.young;
+      const double c = std::sqrt(mod / m.density), z = std::sqrt(mod * m.density);
+      if (!(normal(mod) && normal(mod / m.density) && normal(mod * m.density) && normal(c * z)))
+        refuse(key_path("materials", m.name), doc["materials"][m.name],
+               "asks for a wave speed or impedance outside the range of a double (c = " +
+                   number_text(c) + " m/s, Z = " + number_text(z) + " kg/m^2/s)",
+               "a modulus and density whose ratio and product are normal doubles");
+      modulus.push_back(mod), speed.push_back(c), impedance.push_back(z);
+    }
+    for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+      const BodySpec& b = s.bodies[i];
+      const int k = b.material;
+      double v = 0, sigma = 0;
+      for (double x : b.velocity) v = std::max(v, std::abs(x));
+      for (double x : b.stress) sigma = std::max(sigma, std::abs(x));
+      // The stress an impact at v makes is Z v; the energy density sigma^2 / M + rho v^2.
+      const double stress = std::max(sigma, impedance[k] * v);
+      const double energy = stress / modulus[k] * stress + impedance[k] / speed[k] * v * v;
+      if (!(std::isfinite(stress) && std::isfinite(energy) && std::isfinite(stress * speed[k]))) {
+        const bool by_velocity = impedance[k] * v >= sigma;
+        const std::string key = by_velocity ? "velocity" : "stress";
+        const std::string path = key_path(index_path("bodies", i), key);
+        refuse(path, doc["bodies"][i][key],
+               "makes stresses or energies outside the range of a double with material \"" +
+                   s.materials[k].name + "\"",
+               "values whose stress (and impedance times velocity) squared over the modulus is a "
+               "finite double");
+      }
+    }
+    double h = std::numeric_limits<double>::infinity(), c_max = 0;
+    for (std::size_t a = 0; a < s.grid.cell_size.size(); ++a) {
+      h = std::min(h, s.grid.cell_size[a]);
+      if (!std::isfinite(s.grid.upper(a)))
+        refuse(index_path("grid.cells", a), doc["grid"]["cells"][a],
+               "makes the grid's extent overflow a double", "origin + cells * cell_size finite");
+    }
+    for (double c : speed) c_max = std::max(c_max, c);
+    const double dt = (s.time.courant_auto ? 1.0 : s.time.courant) * h / c_max;
+    if (!normal(h) || !normal(dt))
+      refuse("grid.cell_size", doc["grid"]["cell_size"],
+             "gives a time step of " + number_text(dt) + " s, not a normal double",
+             "cell sizes whose time step c dt / h = C is a normal double (above 2.2e-308 s)");
+  }
+
+  static std::string number_text(double x) {
+    std::ostringstream o;
+    o << x;
+    return o.str();
+  }
 
   [[noreturn]] void fail(const std::string& path, const std::string& text) const {
     throw SceneError(source_ + ": " + (path.empty() ? "(top level)" : path) + ": " + text);
@@ -929,10 +1004,38 @@ Scene load_scene(const std::string& path) {
     return true;
   };
   json document;
+  const std::string raw = text.str();
   try {
-    document = json::parse(text.str(), on_event);
+    document = json::parse(raw, on_event);
   } catch (const json::exception& e) {
-    throw SceneError(path + ": invalid JSON: " + e.what());
+    // Where: the key being read and, for a syntax error or a number too large for a double, its
+    // line and column.
+    std::string where;
+    for (const Frame& f : stack)
+      where = f.array ? index_path(where, f.index) : key_path(where, f.key);
+    std::size_t offset = std::string::npos;
+    std::string message = e.what();
+    if (const auto* pe = dynamic_cast<const json::parse_error*>(&e)) {
+      offset = pe->byte > 0 ? pe->byte - 1 : 0;
+      where.clear();  // a syntax error may sit after the last key's value
+    } else {
+      const auto open = message.find("parsing '"), close = message.rfind('\'');
+      if (open != std::string::npos && close > open + 9) {
+        const std::string number = message.substr(open + 9, close - open - 9);
+        offset = raw.find(number);
+        if (e.id == 406)
+          message = "the number " + number + " is too large for a double (at most about 1.8e308)";
+      }
+    }
+    std::string at;
+    if (offset != std::string::npos && offset <= raw.size()) {
+      const auto line = 1 + std::count(raw.begin(), raw.begin() + offset, '\n');
+      const auto start = raw.rfind('\n', offset == 0 ? 0 : offset - 1);
+      const auto column = offset - (start == std::string::npos ? 0 : start + 1) + 1;
+      at = " (line " + std::to_string(line) + ", column " + std::to_string(column) + ")";
+    }
+    throw SceneError(path + ": " + (where.empty() ? "" : where + ": ") + "invalid JSON" + at +
+                     ": " + message);
   }
   return parse_scene(document, path);
 }

@@ -1,5 +1,6 @@
 #include "stability/layout.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -9,9 +10,13 @@
 namespace dgmpm::stability {
 
 double CellLayout::mass_fraction(int k) const {
+  // Relative to the largest weight first: weights near the top of the double range (1e308 each)
+  // would overflow their sum.
+  double largest = 0.0;
+  for (int j = 0; j < size(); ++j) largest = std::max(largest, weight(j));
   double total = 0.0;
-  for (int j = 0; j < size(); ++j) total += weight(j);
-  return weight(k) / total;
+  for (int j = 0; j < size(); ++j) total += weight(j) / largest;
+  return weight(k) / largest / total;
 }
 
 void validate(const CellLayout& layout) {

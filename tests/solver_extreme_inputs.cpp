@@ -1,0 +1,113 @@
+// Inputs accepted alone but wrong together, or at the edge of the double range: refused before
+// any step with the key path (and, for the JSON text, line and column), or computed without
+// overflow.
+#define BOOST_TEST_MODULE solver_extreme_inputs
+#include <boost/test/unit_test.hpp>
+
+#include "solver/problem.hpp"
+#include "solver/scene.hpp"
+#include <stability/admissible_courant.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using namespace dgmpm;
+using nlohmann::json;
+
+namespace {
+
+json bar(json layout = {{"particles_per_cell", 1}}) {
+  json body = {
+      {"material", "steel"}, {"box", {{"min", {0.0}}, {"max", {1.0}}}}, {"velocity", {1.0}}};
+  body.update(layout);
+  return {{"dimension", 1},
+          {"grid", {{"origin", {0.0}}, {"cell_size", {0.1}}, {"cells", {10}}}},
+          {"materials", {{"steel", {{"young", 2e11}, {"density", 7800}}}}},
+          {"bodies", {body}},
+          {"time", {{"end", 1e-4}, {"courant", 1.0}}}};
+}
+
+std::string refusal_of_text(const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / "dgmpm_extreme_input.json";
+  std::ofstream(path, std::ios::binary) << text;
+  try {
+    scene::load_scene(path.string());
+  } catch (const scene::SceneError& e) {
+    std::filesystem::remove(path);
+    return e.what();
+  }
+  std::filesystem::remove(path);
+  return "";
+}
+
+std::string refusal(const json& doc) {
+  try {
+    scene::parse_scene(doc);
+  } catch (const scene::SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+// Relative weights at the top of the double range: normalised before they are summed.
+BOOST_AUTO_TEST_CASE(huge_relative_masses_do_not_overflow) {
+  const auto masses = [](double w) {
+    const auto p = make_problem<ElasticBar>(
+        scene::parse_scene(bar({{"particles_per_cell", 2}, {"masses_in_cell", {w, 3 * w}}})));
+    return p.particles.mass;
+  };
+  const Eigen::VectorXd unit = masses(1.0), huge = masses(1e308 / 3);
+  BOOST_TEST((unit - huge).cwiseAbs().maxCoeff() <= 1e-12 * unit.maxCoeff());
+  BOOST_TEST(unit.sum() == 7800 * 1.0, boost::test_tools::tolerance(1e-12));
+  const auto courant = [](double w) {
+    return stability::admissible_courant({{0.25, 0.75}, {w, w}}, stability::TimeScheme::euler,
+                                         stability::Criterion::l2)
+        .courant;
+  };
+  BOOST_TEST(courant(1e308) == courant(1.0));
+  BOOST_TEST(courant(1e-308) == courant(1.0));
+}
+
+// The JSON text: a number too large for a double, a syntax error, a NUL in a key.
+BOOST_AUTO_TEST_CASE(json_errors_name_key_line_and_column) {
+  const std::string overflow = refusal_of_text("{\"dimension\": 1,\n \"time\": {\"end\": 1e309}}");
+  BOOST_TEST(overflow.find("time.end: invalid JSON (line 2, column 18)") != std::string::npos,
+             overflow);
+  BOOST_TEST(overflow.find("1e309 is too large for a double") != std::string::npos);
+  const std::string syntax = refusal_of_text("{\"dimension\": 1,\n \"time\": {\"end\": 1,}}");
+  BOOST_TEST(syntax.find("(line 2, column 20)") != std::string::npos, syntax);
+  const std::string nul = refusal_of_text(std::string("{\"ti\\u0000me\": 1}"));
+  BOOST_TEST(nul.find("ti\\u0000me: unknown key; allowed keys: dimension") != std::string::npos,
+             nul);
+}
+
+// Values valid alone whose physics leaves the double range: refused with the key responsible.
+BOOST_AUTO_TEST_CASE(physics_outside_the_double_range_is_refused) {
+  struct Case {
+    const char* key;
+    json (*edit)(json);
+  };
+  const Case cases[] = {
+      {"materials.steel:", [](json d) { return d["materials"]["steel"]["young"] = 1e308, d; }},
+      {"materials.steel:", [](json d) { return d["materials"]["steel"]["density"] = 1e-308, d; }},
+      {"bodies[0].velocity:", [](json d) { return d["bodies"][0]["velocity"] = {1e308}, d; }},
+      {"grid.cell_size:",
+       [](json d) {
+         d["grid"]["cell_size"] = {1e-320};
+         d["bodies"][0]["box"]["max"] = {5e-320};
+         return d;
+       }},
+  };
+  for (const Case& c : cases) {
+    const std::string what = refusal(c.edit(bar()));
+    BOOST_TEST(what.find(c.key) != std::string::npos, what);
+    BOOST_TEST(what.find("double") != std::string::npos, what);
+  }
+  BOOST_TEST(refusal(bar()).empty());  // and the plain scene is accepted
+}
