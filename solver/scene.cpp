@@ -495,9 +495,9 @@ class Parser {
   }
 
   TimeSpec parse_time(const json& t) const {
-    check_object(
-        t, "time",
-        {"end", "integrator", "courant", "criterion", "safety", "blow_up_check", "blow_up_factor"});
+    check_object(t, "time",
+                 {"end", "integrator", "courant", "criterion", "safety", "blow_up_check",
+                  "blow_up_factor", "max_steps"});
     TimeSpec time;
     time.end = positive(require(t, "time", "end", "a number > 0"), "time.end");
     if (const json* i = find(t, "integrator"))
@@ -524,6 +524,12 @@ class Parser {
       const std::string allowed = "0 < safety <= 1";
       time.safety = number(*s, "time.safety", allowed);
       if (!(time.safety > 0 && time.safety <= 1)) not_allowed("time.safety", *s, allowed);
+    }
+    if (const json* m = find(t, "max_steps")) {
+      const std::string allowed = "an integer >= 1 (at most 9.2e18)";
+      const double v = number(*m, "time.max_steps", allowed);
+      if (!(v >= 1 && v < 9.2e18 && v == std::floor(v))) not_allowed("time.max_steps", *m, allowed);
+      time.max_steps = static_cast<long>(v);
     }
     if (const json* b = find(t, "blow_up_check")) {
       if (!b->is_boolean()) not_allowed("time.blow_up_check", *b, "true or false");

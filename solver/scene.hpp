@@ -73,6 +73,8 @@ struct TimeSpec {
   // the loads), unless blow_up_check is false.
   bool blow_up_check = true;
   double blow_up_factor = 10.0;
+  // A run needing more steps is refused up front (or stopped, when "auto" shrinks the step).
+  long max_steps = 10'000'000;
 };
 
 struct OutputSpec {

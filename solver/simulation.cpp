@@ -417,13 +417,31 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     write_history(0.0);
   }
 
+  // The step count up front: a run that would need more than time.max_steps is refused.
+  const double expected_steps = std::ceil((scene_.time.end - time_) / dt_);
+  if (expected_steps > static_cast<double>(scene_.time.max_steps)) {
+    std::ostringstream s;
+    s << scene_.source << ": time.end: value " << scene_.time.end << " needs about "
+      << expected_steps << " steps of " << dt_ << " s, more than time.max_steps ("
+      << scene_.time.max_steps << "); allowed: an end time within time.max_steps, or a larger "
+      << "time.max_steps";
+    throw scene::SceneError(s.str());
+  }
   const bool progress = options.progress && ::isatty(STDERR_FILENO);
+  if (progress)
+    std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(), expected_steps,
+                 dt_);
   auto last_report = start;
   const double t_end = scene_.time.end;
   int output_index = 0;
   std::vector<std::pair<double, std::string>> series;  // (time, .vtu file name)
   for (double target : targets) {
     for (double controlled = dt_, dt; (dt = step_towards(target)) > 0.0; controlled = dt_) {
+      if (steps_ >= scene_.time.max_steps && time_ < t_end)
+        throw std::runtime_error(format_step(steps_, time_) + ": time.max_steps (" +
+                                 std::to_string(scene_.time.max_steps) +
+                                 ") reached before the end time; the automatic step shrank "
+                                 "(raise time.max_steps to go on)");
       // The range of the controlled step; steps shortened to land on a time are not counted.
       summary.dt_min = std::min(summary.dt_min, controlled);
       summary.dt_max = std::max(summary.dt_max, controlled);

@@ -6,10 +6,12 @@
 
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
+#include "solver/simulation.hpp"
 #include <stability/admissible_courant.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -110,4 +112,32 @@ BOOST_AUTO_TEST_CASE(physics_outside_the_double_range_is_refused) {
     BOOST_TEST(what.find("double") != std::string::npos, what);
   }
   BOOST_TEST(refusal(bar()).empty());  // and the plain scene is accepted
+}
+
+// An end time needing more steps than time.max_steps (default 1e7) is refused up front with the
+// estimate; exactly max_steps steps run.
+BOOST_AUTO_TEST_CASE(runs_longer_than_max_steps_are_refused_up_front) {
+  json doc = bar();
+  doc["time"]["end"] = 1e308;
+  const auto run = [](const json& d) -> std::string {
+    try {
+      scene::Scene s = scene::parse_scene(d);
+      with_physics(s,
+                   [&](auto physics) { Simulation<typename decltype(physics)::type>(s).run({}); });
+    } catch (const scene::SceneError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string what = run(doc);
+  BOOST_TEST(what.find("time.end: value 1e+308 needs about") != std::string::npos, what);
+  BOOST_TEST(what.find("more than time.max_steps (10000000)") != std::string::npos, what);
+  const double dt = 0.1 / std::sqrt(2e11 / 7800);
+  doc["time"]["end"] = 80 * dt;
+  doc["time"]["max_steps"] = 80;
+  BOOST_TEST(run(doc).empty());
+  doc["time"]["max_steps"] = 79;
+  BOOST_TEST(run(doc).find("more than time.max_steps (79)") != std::string::npos);
+  doc["time"]["max_steps"] = 0.5;
+  BOOST_TEST(refusal(doc).find("time.max_steps") != std::string::npos);
 }
