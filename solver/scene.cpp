@@ -180,15 +180,6 @@ void for_each_seed(const Scene& scene, const BodySpec& body,
 }
 
 // Cell ranges of a box (or of the intersection of two).
-std::array<std::pair<int, int>, 3> box_cells(const Scene& scene, const std::vector<double>& lo,
-                                             const std::vector<double>& hi) {
-  std::array<std::pair<int, int>, 3> ranges{};
-  for (int a = 0; a < scene.dimension; ++a) {
-    const auto ax = static_cast<std::size_t>(a);
-    ranges[ax] = cell_range(scene.grid, lo[ax], hi[ax], a);
-  }
-  return ranges;
-}
 
 template <class E>
 using Names = std::initializer_list<std::pair<const char*, E>>;
@@ -448,6 +439,12 @@ class Parser {
     numbers(c, "grid.cells", n, per_axis);
     for (std::size_t a = 0; a < n; ++a)
       grid.cells.push_back(integer(c[a], index_path("grid.cells", a), 1, INT_MAX));
+    // Every cell has 2^dim nodes of its own (broken shape functions), counted in an int.
+    double nodes = std::pow(2.0, static_cast<double>(n));
+    for (int k : grid.cells) nodes *= k;
+    if (nodes > INT_MAX)
+      refuse("grid.cells", c, "makes " + format_number(nodes) + " nodes, more than 2^31 - 1",
+             "at most 2^31 - 1 nodes, 2^dimension per cell");
     if (const json* p = find(g, "periodic")) {
       const std::string allowed =
           "true or false, or an array of " + std::to_string(dim) + " booleans (one per axis)";
@@ -706,8 +703,27 @@ class Parser {
                  "] lies in [min, max)",
              "a box holding at least one particle");
     }
-    for (std::size_t j = 0; j < nb; ++j) {
-      for (std::size_t i = 0; i < j; ++i) {
+    // Pairs whose boxes can meet, by a sweep along x (n log n plus the pairs that overlap in x,
+    // not all n^2 pairs): bodies in order of box_min[0], each against those still open.
+    std::vector<std::size_t> order(nb);
+    for (std::size_t k = 0; k < nb; ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return s.bodies[a].box_min[0] < s.bodies[b].box_min[0] ||
+             (s.bodies[a].box_min[0] == s.bodies[b].box_min[0] && a < b);
+    });
+    std::vector<std::pair<std::size_t, std::size_t>> candidates;  // (i, j), i < j
+    std::vector<std::size_t> open;
+    for (std::size_t j : order) {
+      std::erase_if(
+          open, [&](std::size_t i) { return s.bodies[i].box_max[0] <= s.bodies[j].box_min[0]; });
+      for (std::size_t i : open) candidates.emplace_back(std::min(i, j), std::max(i, j));
+      open.push_back(j);
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+      return a.second < b.second || (a.second == b.second && a.first < b.first);
+    });
+    for (const auto& [i, j] : candidates) {
+      {
         std::vector<double> lo(dim), hi(dim);
         bool meet = true;
         for (std::size_t a = 0; a < dim; ++a) {
@@ -941,17 +957,22 @@ class Parser {
     if (const json* t = find(o, "times")) {
       const std::string allowed = "times t with 0 < t <= time.end = " + format_number(s.time.end);
       array(*t, "output.times", "an array of " + allowed);
-      std::vector<double> times;
+      std::vector<std::pair<double, std::size_t>> times;  // (time, index): n log n, not n^2
       for (std::size_t k = 0; k < t->size(); ++k) {
         const std::string p = index_path("output.times", k);
         const double x = number((*t)[k], p, allowed);
         if (!(x > 0 && x <= s.time.end)) not_allowed(p, (*t)[k], allowed);
-        if (std::find(times.begin(), times.end(), x) != times.end())
-          refuse(p, (*t)[k], "is listed twice", "distinct times");
-        times.push_back(x);
+        times.emplace_back(x, k);
       }
       std::sort(times.begin(), times.end());
-      s.output.times = times;
+      for (std::size_t k = 1; k < times.size(); ++k)
+        if (times[k].first == times[k - 1].first) {
+          const std::size_t second = std::max(times[k].second, times[k - 1].second);
+          refuse(index_path("output.times", second), (*t)[second], "is listed twice",
+                 "distinct times");
+        }
+      s.output.times.clear();
+      for (const auto& [x, k] : times) s.output.times.push_back(x);
     }
   }
 };
@@ -966,6 +987,14 @@ Scene load_scene(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw SceneError(path + ": cannot read the scene: it is a directory");
+  // Only a regular file of bounded size: a FIFO would block, /dev/zero would never end.
+  constexpr std::uintmax_t kMaxSceneBytes = 64u << 20;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(path + ": cannot read the scene: not a regular file (a device, FIFO or "
+                            "socket); allowed: a JSON file");
+  if (const auto size = std::filesystem::file_size(path, ec); !ec && size > kMaxSceneBytes)
+    throw SceneError(path + ": cannot read the scene: " + std::to_string(size) +
+                     " bytes, more than the 64 MiB a scene may take");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot read the scene: " + std::strerror(errno));
   std::ostringstream text;
@@ -1056,6 +1085,16 @@ std::vector<Seed> body_seeds(const Scene& scene, std::size_t body) {
     return true;
   });
   return seeds;
+}
+
+std::array<std::pair<int, int>, 3> box_cells(const Scene& scene, const std::vector<double>& lo,
+                                             const std::vector<double>& hi) {
+  std::array<std::pair<int, int>, 3> ranges{};
+  for (int a = 0; a < scene.dimension; ++a) {
+    const auto ax = static_cast<std::size_t>(a);
+    ranges[ax] = cell_range(scene.grid, lo[ax], hi[ax], a);
+  }
+  return ranges;
 }
 
 }  // namespace dgmpm::scene

@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dgmpm::scene {
@@ -129,6 +130,9 @@ struct Seed {
 
 // The seeds of scene.bodies[body]: cell by cell (the first axis fastest) and, inside a cell, in
 // the order of the layout.
+// Per axis, the range [first, last) of grid cells whose particles may lie in [lo, hi).
+std::array<std::pair<int, int>, 3> box_cells(const Scene& scene, const std::vector<double>& lo,
+                                             const std::vector<double>& hi);
 std::vector<Seed> body_seeds(const Scene& scene, std::size_t body);
 
 }  // namespace dgmpm::scene

@@ -457,8 +457,8 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
         }
       }
     }
-    if (writes && std::find(scene_.output.times.begin(), scene_.output.times.end(), target) !=
-                      scene_.output.times.end()) {
+    if (writes &&
+        std::binary_search(scene_.output.times.begin(), scene_.output.times.end(), target)) {
       char name[64];
       if (csv) {
         std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index);
