@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace dgmpm::output {
 
@@ -30,5 +31,25 @@ class StreamedFile {
 };
 
 void create_directories(const std::string& directory);
+
+// A run owns its output directory while it runs (an exclusive lock on DIR/.dgmpm.lock, released
+// when the process ends, however it ends) and records in DIR/manifest.json the scene and the
+// files it writes. Claiming a directory: refused while another run holds it; refused when it
+// holds another scene's outputs (its manifest names another scene, or output files without a
+// manifest) unless `overwrite`; then the files of the earlier run's manifest are removed, so a
+// run of the same scene replaces exactly the earlier run's files.
+class DirectoryClaim {
+ public:
+  DirectoryClaim(const std::string& directory, const std::string& scene,
+                 const std::vector<std::string>& files, bool overwrite);
+  ~DirectoryClaim();
+  DirectoryClaim(const DirectoryClaim&) = delete;
+  DirectoryClaim& operator=(const DirectoryClaim&) = delete;
+
+ private:
+  static void take_over(const std::string& directory, const std::string& scene,
+                        const std::vector<std::string>& files, bool overwrite);
+  int lock_fd_ = -1;
+};
 
 }  // namespace dgmpm::output

@@ -14,6 +14,7 @@ struct RunArguments {
   std::string scene = std::string(DGMPM_SOURCE_DIR) + "/scenes/two_bar_impact.json";
   std::string out;
   bool json = false;
+  bool overwrite = false;
 };
 
 void print_human(const scene::Scene& scene, const SimulationBase& sim, const RunSummary& s) {
@@ -56,6 +57,7 @@ int run(const RunArguments& args) {
     RunOptions options;
     if (!args.out.empty()) options.output_directory = args.out;
     options.progress = true;
+    options.overwrite = args.overwrite;
     for (const auto& w : sim.warnings()) std::cerr << "warning: " << w << std::endl;
     const RunSummary summary = sim.run(options);
     if (args.json) {
@@ -91,6 +93,8 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", args->out, "Output directory (overrides the scene's output.directory)");
   cmd->add_flag("--json", args->json, "Print one JSON object with the run's summary");
+  cmd->add_flag("--overwrite", args->overwrite,
+                "Replace another scene's outputs in the output directory");
   cmd->callback([args] {
     const int code = run(*args);
     if (code != 0) throw CLI::RuntimeError(code);

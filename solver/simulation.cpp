@@ -397,9 +397,22 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   const bool writes = !directory.empty();
   const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
   std::vector<double> targets;
+  std::optional<output::DirectoryClaim> claim;
   if (writes) {
     output::create_directories(directory);
     targets = scene_.output.times;
+    std::vector<std::string> planned;
+    char name[64];
+    for (std::size_t k = 0; k < scene_.output.times.size(); ++k)
+      for (const char* ext : {"csv", "vtu"})
+        if (std::string(ext) == "csv" ? csv : vtu) {
+          std::snprintf(name, sizeof name, "particles_%03zu.%s", k, ext);
+          planned.push_back(name);
+        }
+    if (vtu && !scene_.output.times.empty()) planned.push_back("particles.pvd");
+    planned.push_back("energy.csv");
+    planned.push_back("summary.json");
+    claim.emplace(directory, scene_.source, planned, options.overwrite);
   }
   targets.push_back(scene_.time.end);
   std::sort(targets.begin(), targets.end());

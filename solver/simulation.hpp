@@ -40,6 +40,8 @@ struct RunSummary {
 struct RunOptions {
   std::optional<std::string> output_directory;  // overrides the scene's
   bool progress = false;                        // progress line on stderr
+  bool overwrite =
+      false;  // replace another scene's outputs in the directory (output::DirectoryClaim)
 };
 
 // Errors ||u_h - u|| / ||u|| over particles, u_p a column (the Euclidean norm of its components

@@ -1,0 +1,102 @@
+// A run owns its output directory: the same scene run again replaces exactly its earlier files
+// (stale ones included), another scene's outputs are refused unless overwritten, and a directory
+// in use by a running run is refused.
+#define BOOST_TEST_MODULE solver_output_ownership
+#include <boost/test/unit_test.hpp>
+
+#include "solver/output.hpp"
+#include "solver/scene.hpp"
+#include "solver/simulation.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+
+using namespace dgmpm;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path root = fs::temp_directory_path() / "dgmpm_output_ownership";
+
+std::string write_scene(const std::string& name, std::vector<double> times) {
+  json doc = {{"dimension", 1},
+              {"grid", {{"origin", {0.0}}, {"cell_size", {0.1}}, {"cells", {10}}}},
+              {"materials", {{"steel", {{"young", 2e11}, {"density", 7800}}}}},
+              {"bodies",
+               {{{"material", "steel"},
+                 {"box", {{"min", {0.0}}, {"max", {1.0}}}},
+                 {"velocity", {1.0}},
+                 {"particles_per_cell", 1}}}},
+              {"time", {{"end", 1e-4}, {"courant", 1.0}}},
+              {"output", {{"directory", (root / "out").string()}, {"times", times}}}};
+  fs::create_directories(root);
+  const fs::path path = root / name;
+  std::ofstream(path) << doc.dump();
+  return path.string();
+}
+
+std::string run(const std::string& scene, bool overwrite = false) {
+  try {
+    BarSimulation sim(scene::load_scene(scene));
+    RunOptions options;
+    options.overwrite = overwrite;
+    sim.run(options);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::set<std::string> files() {
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(root / "out"))
+    names.insert(e.path().filename().string());
+  return names;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_run_owns_its_directory) {
+  fs::remove_all(root);
+  const std::string three = write_scene("a.json", {2e-5, 5e-5, 1e-4});
+  BOOST_TEST(run(three).empty());
+  BOOST_TEST(files().count("particles_002.csv") == 1u);
+  // The same scene with fewer outputs: the earlier particles_002.csv is stale and goes.
+  write_scene("a.json", {1e-4});
+  BOOST_TEST(run(three).empty());
+  BOOST_TEST(files().count("particles_002.csv") == 0u);
+  BOOST_TEST(files().count("particles_000.csv") == 1u);
+  // Files that are not the run's stay.
+  std::ofstream(root / "out" / "notes.txt") << "mine";
+  BOOST_TEST(run(three).empty());
+  BOOST_TEST(files().count("notes.txt") == 1u);
+  // Another scene is refused, unless it overwrites.
+  const std::string other = write_scene("b.json", {1e-4});
+  const std::string refused = run(other);
+  BOOST_TEST(refused.find("holds the outputs of") != std::string::npos, refused);
+  BOOST_TEST(refused.find("a.json") != std::string::npos, refused);
+  BOOST_TEST(run(other, true).empty());
+  const std::string back = run(three);
+  BOOST_TEST(back.find("b.json") != std::string::npos, back);
+  // dgmpm outputs without a manifest (an unknown run) are not ours to delete.
+  fs::remove(root / "out" / "manifest.json");
+  BOOST_TEST(run(three).find("of an unknown run") != std::string::npos);
+  BOOST_TEST(run(three, true).empty());
+}
+
+BOOST_AUTO_TEST_CASE(a_directory_in_use_is_refused) {
+  fs::create_directories(root / "busy");
+  output::DirectoryClaim first((root / "busy").string(), "x.json", {"energy.csv"}, true);
+  std::string what;
+  try {
+    output::DirectoryClaim second((root / "busy").string(), "x.json", {"energy.csv"}, true);
+  } catch (const std::runtime_error& e) {
+    what = e.what();
+  }
+  BOOST_TEST(what.find("is in use by another running dgmpm run") != std::string::npos, what);
+}
