@@ -7,10 +7,12 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <regex>
 #include <stdexcept>
+#include <utility>
 
 namespace dgmpm::output {
 
@@ -19,6 +21,45 @@ namespace fs = std::filesystem;
 namespace {
 std::string temporary_name(const std::string& path) {
   return path + ".part-" + std::to_string(::getpid());
+}
+
+// Temporary files being written, removed by SIGINT / SIGTERM before the process ends (the
+// handler may only call async-signal-safe functions: fixed buffers, unlink, raise).
+constexpr int kSlots = 8;
+constexpr std::size_t kPathBytes = 4096;
+char pending[kSlots][kPathBytes];
+volatile std::sig_atomic_t in_use[kSlots];
+
+extern "C" void remove_pending_and_die(int signal) {
+  for (int k = 0; k < kSlots; ++k)
+    if (in_use[k]) ::unlink(pending[k]);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+int register_pending(const std::string& path) {
+  static const bool installed = [] {
+    std::signal(SIGINT, remove_pending_and_die);
+    std::signal(SIGTERM, remove_pending_and_die);
+    return true;
+  }();
+  (void)installed;
+  if (path.size() >= kPathBytes) return -1;
+  for (int k = 0; k < kSlots; ++k)
+    if (!in_use[k]) {
+      std::memcpy(pending[k], path.c_str(), path.size() + 1);
+      in_use[k] = 1;
+      return k;
+    }
+  return -1;
+}
+
+void unregister_pending(int slot) {
+  if (slot >= 0) in_use[slot] = 0;
+}
+
+std::string reason() {
+  return errno ? std::string(": ") + std::strerror(errno) : std::string();
 }
 }  // namespace
 
@@ -31,45 +72,79 @@ void create_directories(const std::string& directory) {
 
 void write_atomically(const std::string& path, const std::function<void(std::ostream&)>& fill) {
   const std::string tmp = temporary_name(path);
-  {
+  const int slot = register_pending(tmp);
+  std::error_code ec;
+  try {
     std::ofstream out(tmp);
-    if (!out) throw std::runtime_error("cannot write " + tmp);
+    errno = 0;
+    if (!out) throw std::runtime_error("cannot write " + tmp + reason());
     out.precision(17);
     fill(out);
     out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("error while writing " + tmp);
-    }
+    if (!out) throw std::runtime_error("error while writing " + tmp + reason());
+    out.close();
+    if (!out) throw std::runtime_error("error while writing " + tmp + reason());
+    fs::rename(tmp, path, ec);
+    if (ec) throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
+  } catch (...) {
+    fs::remove(tmp, ec);  // every failure path, the fill's own exceptions included
+    unregister_pending(slot);
+    throw;
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
+  unregister_pending(slot);
 }
 
 StreamedFile::StreamedFile(const std::string& path)
     : path_(path), temporary_(temporary_name(path)), stream_(temporary_) {
-  if (!stream_) throw std::runtime_error("cannot write " + temporary_);
+  if (!stream_) throw std::runtime_error("cannot write " + temporary_ + reason());
+  slot_ = register_pending(temporary_);
   stream_.precision(17);
+}
+
+StreamedFile::StreamedFile(StreamedFile&& o) noexcept
+    : path_(std::move(o.path_)), temporary_(std::move(o.temporary_)), stream_(std::move(o.stream_)),
+      slot_(std::exchange(o.slot_, -1)) {}
+
+StreamedFile& StreamedFile::operator=(StreamedFile&& o) noexcept {
+  if (this != &o) {
+    discard();
+    path_ = std::move(o.path_);
+    temporary_ = std::move(o.temporary_);
+    stream_ = std::move(o.stream_);
+    slot_ = std::exchange(o.slot_, -1);
+  }
+  return *this;
 }
 
 void StreamedFile::close() {
   if (!stream_.is_open()) return;
+  errno = 0;
   stream_.close();
-  if (!stream_) throw std::runtime_error("error while writing " + temporary_);
   std::error_code ec;
+  if (!stream_) {
+    const std::string why = reason();
+    discard();
+    throw std::runtime_error("error while writing " + temporary_ + why);
+  }
   fs::rename(temporary_, path_, ec);
-  if (ec)
+  if (ec) {
+    discard();
     throw std::runtime_error("cannot rename " + temporary_ + " to " + path_ + ": " + ec.message());
+  }
+  unregister_pending(std::exchange(slot_, -1));
+}
+
+void StreamedFile::discard() {
+  if (stream_.is_open()) stream_.close();
+  if (slot_ >= 0) {
+    std::error_code ec;
+    fs::remove(temporary_, ec);
+    unregister_pending(std::exchange(slot_, -1));
+  }
 }
 
 StreamedFile::~StreamedFile() {
-  if (stream_.is_open()) {
-    stream_.close();
-    std::error_code ec;
-    fs::remove(temporary_, ec);
-  }
+  discard();
 }
 
 DirectoryClaim::DirectoryClaim(const std::string& directory, const std::string& scene,

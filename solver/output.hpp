@@ -1,6 +1,7 @@
 #pragma once
 // Output files. Every file is written under a temporary name in its final directory and renamed
-// when complete, so a reader never sees half a file.
+// when complete, so a reader never sees half a file; the temporary file is removed on every
+// failure path and when SIGINT or SIGTERM ends the process.
 
 #include <fstream>
 #include <functional>
@@ -18,16 +19,18 @@ class StreamedFile {
  public:
   StreamedFile() = default;
   explicit StreamedFile(const std::string& path);
-  StreamedFile(StreamedFile&&) = default;
-  StreamedFile& operator=(StreamedFile&&) = default;
+  StreamedFile(StreamedFile&&) noexcept;
+  StreamedFile& operator=(StreamedFile&&) noexcept;
   ~StreamedFile();  // an unfinished file is removed, never left under its final name
   bool is_open() const { return stream_.is_open(); }
   std::ostream& stream() { return stream_; }
   void close();
 
  private:
+  void discard();  // closes and removes the temporary file
   std::string path_, temporary_;
   std::ofstream stream_;
+  int slot_ = -1;  // registered for removal on SIGINT / SIGTERM
 };
 
 void create_directories(const std::string& directory);

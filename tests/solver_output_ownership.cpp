@@ -10,10 +10,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
+#include <sys/wait.h>
 
 using namespace dgmpm;
 using nlohmann::json;
@@ -99,4 +101,26 @@ BOOST_AUTO_TEST_CASE(a_directory_in_use_is_refused) {
     what = e.what();
   }
   BOOST_TEST(what.find("is in use by another running dgmpm run") != std::string::npos, what);
+}
+
+// A run killed by SIGTERM (or SIGINT) while it writes leaves no temporary file behind, nor a
+// held lock: the same run then starts again.
+BOOST_AUTO_TEST_CASE(a_killed_run_leaves_no_temporary_file) {
+  fs::remove_all(root / "out");
+  json doc = json::parse(std::ifstream(write_scene("long.json", {1.0})));
+  doc["time"]["end"] = 1000.0;  // about 5e7 steps: far longer than the second it is given
+  doc["time"]["max_steps"] = 1e12;
+  const fs::path scene = root / "long.json";
+  std::ofstream(scene) << doc.dump();
+  for (const char* signal : {"TERM", "INT"}) {
+    const std::string command = std::string("timeout -s ") + signal + " 1 " + DGMPM_BINARY +
+                                " run " + scene.string() + " > /dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    BOOST_TEST(WEXITSTATUS(status) == 124, signal);  // timeout's code: the run was killed
+    int temporaries = 0;
+    for (const auto& e : fs::directory_iterator(root / "out"))
+      temporaries += e.path().filename().string().find(".part-") != std::string::npos;
+    BOOST_TEST(temporaries == 0, signal);
+    BOOST_TEST(files().count("manifest.json") == 1u);
+  }
 }
