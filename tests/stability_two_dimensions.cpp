@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <omp.h>
 #include <random>
 
 using namespace dgmpm;
@@ -314,5 +315,22 @@ BOOST_AUTO_TEST_CASE(search_is_conservative_against_a_dense_scan) {
       BOOST_TEST(search <= lo * (1 + 1e-6));  // the margin's tolerance lets rho - 1 ~ 1e-7 pass
       BOOST_TEST(search >= 0.99 * lo);
     }
+  }
+}
+
+// The torus is scanned by several threads but combined in a fixed order: the same C*, to the
+// last bit, whatever the thread count.
+BOOST_AUTO_TEST_CASE(thread_count_does_not_change_the_answer) {
+  const CellLayout layout = points({0.3, 0.6, 0.8, 0.25}, {1.0, 2.0});
+  for (FluxScheme flux : {dcu, ctu}) {
+    const AnalysisSetting s = elastic(0.3, flux, rk2);
+    omp_set_num_threads(1);
+    const CourantResult one = admissible_courant(layout, s, Criterion::l2);
+    omp_set_num_threads(2);
+    const CourantResult two = admissible_courant(layout, s, Criterion::l2);
+    BOOST_TEST(one.courant == two.courant);
+    BOOST_TEST(one.failing_courant == two.failing_courant);
+    BOOST_TEST(one.critical_theta == two.critical_theta);
+    BOOST_TEST(one.critical_theta_y == two.critical_theta_y);
   }
 }
