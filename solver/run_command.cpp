@@ -61,16 +61,7 @@ int run(const RunArguments& args) {
     for (const auto& w : sim.warnings()) std::cerr << "warning: " << w << std::endl;
     const RunSummary summary = sim.run(options);
     if (args.json) {
-      nlohmann::json j = summary.to_json();
-      j["scene"] = scene.source;
-      j["method"] = scene::to_string(scene.method);
-      j["integrator"] = scene::to_string(scene.time.integrator);
-      j["dimension"] = scene.dimension;
-      if (scene.dimension > 1 && scene.method == scene::Method::dgmpm)
-        j["flux"] = to_string(scene.flux);
-      j["particles"] = sim.num_particles();
-      j["cells"] = sim.num_cells();
-      std::cout << j.dump(2) << std::endl;
+      std::cout << summary.to_json().dump(2) << std::endl;  // as summary.json
     } else {
       print_human(scene, sim, summary);
     }

@@ -74,11 +74,13 @@ StepperOptions stepper_options(const scene::Scene& scene) {
 }
 
 nlohmann::json RunSummary::to_json() const {
-  nlohmann::json j;
+  nlohmann::json j = run.is_object() ? run : nlohmann::json::object();
   j["steps"] = steps;
   j["final_time"] = final_time;
   j["dt_min"] = dt_min;
   j["dt_max"] = dt_max;
+  j["courant_min"] = courant_min;
+  j["courant_max"] = courant_max;
   j["wall_seconds"] = wall_seconds;
   j["energy_initial"] = energy_initial;
   j["energy_final"] = energy_final;
@@ -358,12 +360,12 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
   const auto& p = problem_.particles;
   if constexpr (dim == 1) {
     output::write_atomically(path, [&](std::ostream& out) {
-      out << "id,x,mass,stress,velocity" << (ex ? ",exact_stress,exact_velocity" : "") << '\n';
+      out << "id,x,mass,stress,velocity" << (ex ? ",exact_stress,exact_velocity" : "") << ",time\n";
       for (int i = 0; i < p.size(); ++i) {
         out << p.id[i] << ',' << p.position(0, i) << ',' << p.mass[i] << ',' << s(0, i) << ','
             << s(1, i);
         if (ex) out << ',' << (*ex)(0, i) << ',' << (*ex)(1, i);
-        out << '\n';
+        out << ',' << time_ << '\n';
       }
     });
   } else {
@@ -372,14 +374,14 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
       out << "id,x,y,mass,volume," << fields;
       if (ex)
         out << ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,exact_velocity_y";
-      out << '\n';
+      out << ",time\n";
       for (int i = 0; i < p.size(); ++i) {
         out << p.id[i] << ',' << p.position(0, i) << ',' << p.position(1, i) << ',' << p.mass[i]
             << ',' << p.volume[i];
         for (int k = 0; k < ncomp; ++k) out << ',' << s(k, i);
         if (ex)
           for (int k = 0; k < ncomp; ++k) out << ',' << (*ex)(k, i);
-        out << '\n';
+        out << ',' << time_ << '\n';
       }
     });
   }
@@ -410,6 +412,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
           planned.push_back(name);
         }
     if (vtu && !scene_.output.times.empty()) planned.push_back("particles.pvd");
+    if (!scene_.output.times.empty()) planned.push_back("outputs.csv");
     planned.push_back("energy.csv");
     planned.push_back("summary.json");
     claim.emplace(directory, scene_.source, planned, options.overwrite);
@@ -448,6 +451,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   const double t_end = scene_.time.end;
   int output_index = 0;
   std::vector<std::pair<double, std::string>> series;  // (time, .vtu file name)
+  std::vector<std::string> index;                      // outputs.csv rows
   for (double target : targets) {
     for (double controlled = dt_, dt; (dt = step_towards(target)) > 0.0; controlled = dt_) {
       if (steps_ >= scene_.time.max_steps && time_ < t_end)
@@ -473,11 +477,16 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     if (writes &&
         std::binary_search(scene_.output.times.begin(), scene_.output.times.end(), target)) {
       char name[64];
+      std::ostringstream row;
+      row.precision(17);
+      row << output_index << ',' << time_ << ',';
       if (csv) {
         std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index);
         write_particles(directory + name);
         summary.files.push_back(directory + name);
+        row << (name + 1);
       }
+      row << ',';
       if (vtu) {
         std::snprintf(name, sizeof name, "particles_%03d.vtu", output_index);
         vtk::write_particles<Physics>(
@@ -485,17 +494,37 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
             problem_.exact ? std::optional(exact_state(time_)) : std::nullopt);
         summary.files.push_back(directory + "/" + name);
         series.emplace_back(time_, name);
+        row << name;
       }
+      index.push_back(row.str());
       ++output_index;
     }
   }
   if (progress) std::fprintf(stderr, "\r%78s\r", "");
   if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
+  if (writes && !index.empty()) {
+    output::write_atomically(directory + "/outputs.csv", [&](std::ostream& out) {
+      out << "index,time,csv,vtu\n";
+      for (const auto& r : index) out << r << '\n';
+    });
+    summary.files.push_back(directory + "/outputs.csv");
+  }
   if (vtu && writes && !series.empty()) {
     vtk::write_series(directory + "/particles.pvd", series);
     summary.files.push_back(directory + "/particles.pvd");
   }
 
+  summary.run = {{"scene", scene_.source},
+                 {"method", scene::to_string(scene_.method)},
+                 {"integrator", scene::to_string(scene_.time.integrator)},
+                 {"dimension", dim},
+                 {"particles", problem_.particles.size()},
+                 {"cells", problem_.grid.num_cells()}};
+  if (dim > 1 && scene_.method == scene::Method::dgmpm)
+    summary.run["flux"] = to_string(scene_.flux);
+  const double to_courant = problem_.max_wave_speed() / problem_.grid.cell_size.minCoeff();
+  summary.courant_min = summary.dt_min * to_courant;
+  summary.courant_max = summary.dt_max * to_courant;
   summary.steps = steps_;
   summary.final_time = time_;
   summary.warnings = warnings_;

@@ -26,8 +26,10 @@ struct ErrorNorms {
 };
 
 struct RunSummary {
+  nlohmann::json run;  // what ran: scene, method, integrator, dimension, (flux), particles, cells
   long steps = 0;
   double final_time = 0, dt_min = 0, dt_max = 0, wall_seconds = 0;
+  double courant_min = 0, courant_max = 0;  // c_max dt / h of the controlled steps
   double energy_initial = 0, energy_final = 0;
   double boundary_work = 0;  // work done on the body by boundary loads (traction, velocity)
   std::optional<ErrorNorms> stress_errors, velocity_errors;

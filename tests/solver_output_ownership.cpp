@@ -124,3 +124,43 @@ BOOST_AUTO_TEST_CASE(a_killed_run_leaves_no_temporary_file) {
     BOOST_TEST(files().count("manifest.json") == 1u);
   }
 }
+
+// summary.json is exactly the --json object (with the Courant numbers used); each particle CSV
+// says its time, and outputs.csv indexes the outputs (index, time, files).
+BOOST_AUTO_TEST_CASE(outputs_say_what_and_when) {
+  fs::remove_all(root / "out");
+  const std::string scene = write_scene("index.json", {2e-5, 1e-4});
+  const fs::path printed = root / "printed.json";
+  const std::string command =
+      std::string(DGMPM_BINARY) + " run " + scene + " --json > " + printed.string();
+  BOOST_TEST_REQUIRE(std::system(command.c_str()) == 0);
+  const json j = json::parse(std::ifstream(printed));
+  const json summary = json::parse(std::ifstream(root / "out" / "summary.json"));
+  BOOST_TEST(j == summary);
+  BOOST_TEST(j["courant_min"].get<double>() == 1.0, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(j["courant_max"].get<double>() == 1.0, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(j["particles"].get<int>() == 10);
+  std::ifstream index(root / "out" / "outputs.csv");
+  std::string line;
+  std::getline(index, line);
+  BOOST_TEST(line == "index,time,csv,vtu");
+  for (int k = 0; k < 2; ++k) {
+    BOOST_TEST_REQUIRE(static_cast<bool>(std::getline(index, line)));
+    const auto c1 = line.find(','), c2 = line.find(',', c1 + 1), c3 = line.find(',', c2 + 1);
+    BOOST_TEST(std::stoi(line.substr(0, c1)) == k);
+    const double t = std::stod(line.substr(c1 + 1, c2 - c1 - 1));
+    BOOST_TEST(t == (k ? 1e-4 : 2e-5), boost::test_tools::tolerance(1e-12));
+    const std::string file = line.substr(c2 + 1, c3 - c2 - 1);
+    // The file's time column carries the same time on every row.
+    std::ifstream particles(root / "out" / file);
+    std::string header, row;
+    std::getline(particles, header);
+    BOOST_TEST(header.substr(header.rfind(',') + 1) == "time");
+    int rows = 0;
+    while (std::getline(particles, row)) {
+      BOOST_TEST(std::stod(row.substr(row.rfind(',') + 1)) == t);
+      ++rows;
+    }
+    BOOST_TEST(rows == 10);
+  }
+}
