@@ -935,7 +935,8 @@ class Parser {
   }
 
   void parse_output(const json& o, Scene& s) const {
-    check_object(o, "output", {"directory", "times", "formats"});
+    check_object(o, "output", {"directory", "times", "formats", "land"});
+    if (const json* l = find(o, "land")) s.output.land = boolean(*l, "output.land");
     if (const json* f = find(o, "formats")) {
       const std::string allowed = "an array of one or both of \"csv\", \"vtu\"";
       array(*f, "output.formats", allowed);

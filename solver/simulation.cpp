@@ -400,9 +400,11 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
   std::vector<double> targets;
   std::optional<output::DirectoryClaim> claim;
+  const bool land = scene_.output.land;
+  std::size_t next_output = 0;  // without landing
   if (writes) {
     output::create_directories(directory);
-    targets = scene_.output.times;
+    if (land) targets = scene_.output.times;
     std::vector<std::string> planned;
     char name[64];
     for (std::size_t k = 0; k < scene_.output.times.size(); ++k)
@@ -452,6 +454,30 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   int output_index = 0;
   std::vector<std::pair<double, std::string>> series;  // (time, .vtu file name)
   std::vector<std::string> index;                      // outputs.csv rows
+  const auto write_output = [&] {
+    char name[64];
+    std::ostringstream row;
+    row.precision(17);
+    row << output_index << ',' << time_ << ',';
+    if (csv) {
+      std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index);
+      write_particles(directory + name);
+      summary.files.push_back(directory + name);
+      row << (name + 1);
+    }
+    row << ',';
+    if (vtu) {
+      std::snprintf(name, sizeof name, "particles_%03d.vtu", output_index);
+      vtk::write_particles<Physics>(
+          directory + "/" + name, problem_.particles, problem_.materials, physical_state(),
+          problem_.exact ? std::optional(exact_state(time_)) : std::nullopt);
+      summary.files.push_back(directory + "/" + name);
+      series.emplace_back(time_, name);
+      row << name;
+    }
+    index.push_back(row.str());
+    ++output_index;
+  };
   for (double target : targets) {
     for (double controlled = dt_, dt; (dt = step_towards(target)) > 0.0; controlled = dt_) {
       if (steps_ >= scene_.time.max_steps && time_ < t_end)
@@ -463,6 +489,12 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
       summary.dt_min = std::min(summary.dt_min, controlled);
       summary.dt_max = std::max(summary.dt_max, controlled);
       if (writes) write_history(dt);
+      // Without landing, each output is written at the step nearest its time.
+      while (writes && !land && next_output < scene_.output.times.size() &&
+             time_ >= scene_.output.times[next_output] - 0.5 * dt_) {
+        write_output();
+        ++next_output;
+      }
       if (progress) {
         const auto now = clock::now();
         const double elapsed = std::chrono::duration<double>(now - start).count();
@@ -474,31 +506,9 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
         }
       }
     }
-    if (writes &&
-        std::binary_search(scene_.output.times.begin(), scene_.output.times.end(), target)) {
-      char name[64];
-      std::ostringstream row;
-      row.precision(17);
-      row << output_index << ',' << time_ << ',';
-      if (csv) {
-        std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index);
-        write_particles(directory + name);
-        summary.files.push_back(directory + name);
-        row << (name + 1);
-      }
-      row << ',';
-      if (vtu) {
-        std::snprintf(name, sizeof name, "particles_%03d.vtu", output_index);
-        vtk::write_particles<Physics>(
-            directory + "/" + name, problem_.particles, problem_.materials, physical_state(),
-            problem_.exact ? std::optional(exact_state(time_)) : std::nullopt);
-        summary.files.push_back(directory + "/" + name);
-        series.emplace_back(time_, name);
-        row << name;
-      }
-      index.push_back(row.str());
-      ++output_index;
-    }
+    if (writes && land &&
+        std::binary_search(scene_.output.times.begin(), scene_.output.times.end(), target))
+      write_output();
   }
   if (progress) std::fprintf(stderr, "\r%78s\r", "");
   if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
