@@ -10,7 +10,6 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
-#include <regex>
 #include <stdexcept>
 #include <utility>
 
@@ -56,6 +55,19 @@ int register_pending(const std::string& path) {
 
 void unregister_pending(int slot) {
   if (slot >= 0) in_use[slot] = 0;
+}
+
+// particles_NNN.csv / .vtu, particles.pvd, outputs.csv, energy.csv, summary.json.
+bool is_run_output(const std::string& name) {
+  if (name == "particles.pvd" || name == "outputs.csv" || name == "energy.csv" ||
+      name == "summary.json")
+    return true;
+  const std::string prefix = "particles_";
+  if (name.size() < prefix.size() + 5 || name.compare(0, prefix.size(), prefix) != 0) return false;
+  const std::string ext = name.substr(name.size() - 4);
+  const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - 4);
+  return (ext == ".csv" || ext == ".vtu") &&
+         digits.find_first_not_of("0123456789") == std::string::npos;
 }
 
 std::string reason() {
@@ -193,10 +205,8 @@ void DirectoryClaim::take_over(const std::string& directory, const std::string& 
     }
   } else if (!overwrite) {
     // Outputs of a run that left no manifest (an older dgmpm, or a copy): not ours to delete.
-    static const std::regex ours(
-        R"((particles_\d+\.(csv|vtu)|particles\.pvd|energy\.csv|summary\.json))");
     for (const auto& entry : fs::directory_iterator(directory, ec))
-      if (std::regex_match(entry.path().filename().string(), ours))
+      if (is_run_output(entry.path().filename().string()))
         throw std::runtime_error("output directory " + directory + " holds dgmpm outputs (" +
                                  entry.path().filename().string() +
                                  ") of an unknown run; write elsewhere (--out) or replace them "

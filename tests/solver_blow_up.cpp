@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <string>
 
 using namespace dgmpm;
@@ -43,6 +43,12 @@ std::string failure(const json& doc) {
   return "";
 }
 
+// The step a failure message starts with ("step N, t = ..."), -1 if none.
+long step_of(const std::string& what) {
+  if (what.rfind("step ", 0) != 0) return -1;
+  return std::stol(what.substr(5));
+}
+
 }  // namespace
 
 // DGMPM above its limit and MPM USL at Courant 1 (growth |1 - 4 C^2| = 3 per step) stop within
@@ -54,11 +60,12 @@ BOOST_AUTO_TEST_CASE(unbounded_growth_stops_the_run) {
       const std::string what = failure(two_bar(method, courant));
       BOOST_TEST_MESSAGE(what);
       BOOST_TEST(what.find("the run is unstable") != std::string::npos);
-      std::smatch m;
-      BOOST_TEST_REQUIRE(std::regex_search(what, m, std::regex("^step ([0-9]+), t = ")));
-      BOOST_TEST(std::stol(m[1]) >= 16);
-      BOOST_TEST(
-          std::regex_search(what, std::regex("particle [0-9]+ \\(x = [-0-9.e]+, cell [0-9]+")));
+      BOOST_TEST_REQUIRE(step_of(what) >= 16);
+      const auto particle = what.find("; largest on particle ");
+      BOOST_TEST_REQUIRE(particle != std::string::npos);
+      const auto x = what.find(" (x = ", particle), cell = what.find(", cell ", particle);
+      BOOST_TEST((x != std::string::npos && cell != std::string::npos && cell > x));
+      BOOST_TEST(std::isdigit(static_cast<unsigned char>(what[cell + 7])));
       BOOST_TEST(what.find("time.blow_up_factor 10") != std::string::npos);
     }
   }
@@ -68,10 +75,6 @@ BOOST_AUTO_TEST_CASE(unbounded_growth_stops_the_run) {
 // the energy is far above the bound (the unstable case run on purpose).
 BOOST_AUTO_TEST_CASE(the_check_can_be_raised_or_turned_off) {
   json doc = two_bar("dgmpm", 1.5);
-  const auto step_of = [](const std::string& what) {
-    std::smatch m;
-    return std::regex_search(what, m, std::regex("^step ([0-9]+)")) ? std::stol(m[1]) : -1L;
-  };
   const long at_10 = step_of(failure(doc));
   doc["time"]["blow_up_factor"] = 1e100;
   const long at_1e100 = step_of(failure(doc));
