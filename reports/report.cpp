@@ -692,7 +692,8 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
     }
 
     md << "\n## 3. Stability\n\n"
-          "Admissible Courant number C* (method.md 5: the largest C such that every C' in (0, C] "
+          "Admissible Courant number C* (docs/method.md, section Stability: the largest C such "
+          "that every C' in (0, C] "
           "passes) of the elastic bar, for two equal particles at local positions (x1, x2) of "
           "every cell ("
        << stab.map_size << " x " << stab.map_size

@@ -1,5 +1,5 @@
 #pragma once
-// Classical MPM baseline (Sulsky, Zhou, Schreyer 1995; method.md 7) on the same grid, particles
+// Classical MPM baseline (Sulsky, Zhou, Schreyer 1995) on the same grid, particles
 // and boundaries as DGMPM: shared (continuous) nodes, multilinear shape functions, lumped mass,
 // USL / USF / MUSL orderings with a FLIP or PIC particle velocity update.
 // Everything is dimension-generic; the physics supplies the constitutive part: the stress tensor

@@ -1,5 +1,5 @@
 #pragma once
-// Whole-scene stability (method.md 5, issue 3 section 4): the largest-magnitude eigenvalues of
+// Whole-scene stability (docs/method.md, "Stability"): the largest-magnitude eigenvalues of
 // the global one-step operator of a DGMPM scene, each product being one step of lib's integrator
 // on the scene's actual particles and boundaries (boundary values set to zero: the operator's
 // linear part), and the largest Courant number at which its spectral radius stays at most 1.

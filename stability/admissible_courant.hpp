@@ -1,6 +1,6 @@
 #pragma once
-// The admissible Courant number of a cell layout (method.md 5): what `dgmpm courant` prints and
-// what the automatic time step uses.
+// The admissible Courant number of a cell layout (docs/method.md, "Stability"): what `dgmpm
+// courant` prints and what the automatic time step uses.
 
 #include "stability/courant_search.hpp"
 #include "stability/layout.hpp"

@@ -1,7 +1,8 @@
 #pragma once
 // Largest-magnitude eigenvalues of a large sparse real operator known only through its action
 // (a matrix-vector product), with ARPACK's reverse communication (dnaupd / dneupd). For the
-// whole-scene analysis (method.md 5), each product is one linear step of the solver.
+// whole-scene analysis (docs/method.md, "Stability"), each product is one linear step of the
+// solver.
 
 #include <complex>
 #include <functional>

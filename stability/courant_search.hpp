@@ -1,7 +1,8 @@
 #pragma once
-// The largest C* such that every C in (0, C*] passes (method.md 5): the passing set need not be
-// an interval, so C is scanned upward from 0 and only the first transition is refined. Works on
-// any margin function, e.g. the von Neumann criteria or an ARPACK spectral radius minus one.
+// The largest C* such that every C in (0, C*] passes (docs/method.md, "Stability"): the passing set
+// need not be an interval, so C is scanned upward from 0 and only the first transition is refined.
+// Works on any margin function, e.g. the von Neumann criteria or an ARPACK spectral radius minus
+// one.
 
 #include <functional>
 

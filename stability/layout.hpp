@@ -1,5 +1,6 @@
 #pragma once
-// The particle layout of one cell, the input of the von Neumann analysis (method.md 5).
+// The particle layout of one cell, the input of the von Neumann analysis (docs/method.md,
+// "Stability").
 
 #include <string>
 #include <vector>

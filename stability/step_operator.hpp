@@ -1,6 +1,7 @@
 #pragma once
 // One step of lib's integrator seen as a linear operator on the particle state, for ARPACK
-// (arpack_spectrum.hpp): the whole-scene analysis (method.md 5) with the solver's own step.
+// (arpack_spectrum.hpp): the whole-scene analysis (docs/method.md, "Stability") with the solver's
+// own step.
 
 #include "stability/arpack_spectrum.hpp"
 

@@ -1,8 +1,9 @@
-// Consistency of lib's operators (method.md 2): which configurations preserve a constant state.
-// With moving particles a cell can come to hold more than a full cell's mass; the pseudo-stiffness
-// term grows with the cell's mass while the face fluxes do not, so a constant state is no longer
-// a steady solution there. The expected change is derived here, by hand, from method.md's
-// semi-discrete form: node L gets (1 - f) F, node R (f - 1) F, f the cell's mass over rho h.
+// Consistency of lib's operators (docs/method.md, "Discretisation"): which configurations preserve
+// a constant state. With moving particles a cell can come to hold more than a full cell's mass; the
+// pseudo-stiffness term grows with the cell's mass while the face fluxes do not, so a constant
+// state is no longer a steady solution there. The expected change is derived here, by hand, from
+// method.md's semi-discrete form: node L gets (1 - f) F, node R (f - 1) F, f the cell's mass over
+// rho h.
 #define BOOST_TEST_MODULE consistency
 #include <boost/test/unit_test.hpp>
 
@@ -92,8 +93,9 @@ BOOST_AUTO_TEST_CASE(an_overfull_cell_changes_a_constant_state_at_a_rate_set_by_
   const double xi[2] = {0.25, 0.6}, fill = 2.0;  // two particles of a full cell's mass each
   Particles<1, 2> particles;
   const auto q = step_uniform_state(one_per_cell_except_cell_2(xi[0], xi[1], 1.0), particles);
-  // method.md 2: m_i dq_i/dt = K F^s + Fhat; with a constant state every Riemann problem returns
-  // it, Fhat = +-F, and K F^s = -+(m_cell / h) F^s = -+ f F. Physical flux F = -(E v, sigma).
+  // docs/method.md, "Discretisation": m_i dq_i/dt = K F^s + Fhat; with a constant state every
+  // Riemann problem returns it, Fhat = +-F, and K F^s = -+(m_cell / h) F^s = -+ f F. Physical flux
+  // F = -(E v, sigma).
   const double m_left = rho * h * ((1 - xi[0]) + (1 - xi[1]));
   const double m_right = rho * h * (xi[0] + xi[1]);
   const Eigen::Vector2d flux(-E * v0, -sigma0);

@@ -61,7 +61,7 @@ constexpr double steel_E = 2e11, steel_rho = 7800;
 
 }  // namespace
 
-// Founding paper's two-bar impact (method.md 6).
+// Founding paper's two-bar impact.
 BOOST_AUTO_TEST_CASE(two_bar_impact_free_ends) {
   const double c = std::sqrt(steel_E / steel_rho), Z = steel_rho * c, v0 = 4e9 / (2 * Z);
   const ElasticBarSolution bar(0.0, 6.0, steel_E, steel_rho, {{0, 3, 0, v0}, {3, 6, 0, -v0}},

@@ -1,4 +1,4 @@
-// `dgmpm report --quick` (issue 5): every figure and table is produced and its numbers hold.
+// `dgmpm report --quick`: every figure and table is produced and its numbers hold.
 #define BOOST_TEST_MODULE report
 #include <boost/test/unit_test.hpp>
 

@@ -1,4 +1,4 @@
-// Automatic time step (issue 4): dt from the stability analysis of the layouts the solver runs.
+// Automatic time step: dt from the stability analysis of the layouts the solver runs.
 #define BOOST_TEST_MODULE time_step
 #include <boost/test/unit_test.hpp>
 

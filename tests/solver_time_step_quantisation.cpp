@@ -1,4 +1,4 @@
-// Automatic time step (issue 4): the error that the cache's rounding of positions brings to C*.
+// Automatic time step: the error that the cache's rounding of positions brings to C*.
 //
 // TimeStepControl analyses each cell's layout with its local positions rounded by
 // LayoutQuantisation::quantise_position: to q = 1/4096 (moving particles), except near a node,

@@ -1,5 +1,5 @@
 // ARPACK reverse communication (stability/arpack_spectrum.hpp): on known operators, then the
-// whole-grid operator of lib's step against the von Neumann analysis (issue 3, part 4).
+// whole-grid operator of lib's step against the von Neumann analysis.
 #define BOOST_TEST_MODULE stability_arpack
 #include <boost/test/unit_test.hpp>
 

@@ -1,4 +1,4 @@
-// `dgmpm courant` (issue 3, part 3), called with argument vectors.
+// `dgmpm courant`, called with argument vectors.
 #define BOOST_TEST_MODULE stability_courant_command
 #include <boost/test/unit_test.hpp>
 

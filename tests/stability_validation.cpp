@@ -1,5 +1,5 @@
-// Validation of the von Neumann predictions against lib's own stepping on a periodic grid
-// (issue 3, section 5): bounded below the L2 limit, growth rate of the most unstable Fourier
+// Validation of the von Neumann predictions against lib's own stepping on a periodic grid:
+// bounded below the L2 limit, growth rate of the most unstable Fourier
 // mode above it, and no new extrema below the monotone limit.
 #define BOOST_TEST_MODULE stability_validation
 #include <boost/test/unit_test.hpp>

@@ -1,5 +1,5 @@
-// Von Neumann analysis (issue 3, method.md 5): published and expected admissible Courant numbers,
-// and independent checks of the one-step map obtained from lib's integrators.
+// Von Neumann analysis (docs/method.md, "Stability"): published and expected admissible Courant
+// numbers, and independent checks of the one-step map obtained from lib's integrators.
 #define BOOST_TEST_MODULE stability_von_neumann
 #include <boost/test/unit_test.hpp>
 
@@ -75,8 +75,8 @@ BOOST_AUTO_TEST_CASE(two_regular_particles_euler_l2) {
   }
 }
 
-// method.md 5: just above the limit the growth is weak and at small theta, about 5e-4 per step
-// at 2% above it for 2 regular particles with Euler.
+// docs/method.md, "Stability": just above the limit the growth is weak and at small theta, about
+// 5e-4 per step at 2% above it for 2 regular particles with Euler.
 BOOST_AUTO_TEST_CASE(growth_just_above_the_two_particle_limit_is_weak) {
   const OneStepMap map = build_one_step_map(regular_layout(2), TimeScheme::euler, Model::advection);
   L2Criterion l2(map);
@@ -174,7 +174,8 @@ BOOST_AUTO_TEST_CASE(map_reaches_one_cell_and_conserves) {
   for (auto s : kSchemes) {
     const OneStepMap map = build_one_step_map(layout, s, Model::advection);
     const auto& f = map.families[0];
-    BOOST_TEST((f.offsets == std::vector<int>{0, 1}));  // method.md 5: d = 0, 1 only
+    BOOST_TEST(
+        (f.offsets == std::vector<int>{0, 1}));  // docs/method.md, "Stability": d = 0, 1 only
     BOOST_TEST(map.degree == (s == TimeScheme::euler ? 1 : 2));
     // A constant state is preserved: every row of the full map sums to 1.
     for (double c : {0.1, 0.5, 1.3}) {

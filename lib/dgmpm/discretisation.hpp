@@ -1,7 +1,8 @@
 #pragma once
 // Everything the DGMPM operators need from one particle configuration: which particles each cell
 // holds, their shape function values, lumped nodal masses, pseudo-stiffness matrices and cell
-// materials (method.md 2). Built once for fixed particles, rebuilt after every move otherwise.
+// materials (docs/method.md, "Discretisation"). Built once for fixed particles, rebuilt after every
+// move otherwise.
 
 #include "grid.hpp"
 #include "particles.hpp"

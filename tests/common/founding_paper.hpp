@@ -1,5 +1,5 @@
 #pragma once
-// Parameters of the founding paper's two-bar impact (method.md 6), shared by the solver tests.
+// Parameters of the founding paper's two-bar impact, shared by the solver tests.
 
 #include <nlohmann/json.hpp>
 

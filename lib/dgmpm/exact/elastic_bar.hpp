@@ -1,7 +1,8 @@
 #pragma once
-// Exact solution of the 1D linear elastic bar (method.md 1): rho v_t = sigma_x, sigma_t = E v_x on
-// [a, b], one homogeneous material, piecewise-constant initial stress and velocity, ends free,
-// fixed, prescribed stress sigma_d(t) or prescribed velocity v_d(t), or a periodic bar.
+// Exact solution of the 1D linear elastic bar (docs/method.md, "Equations"): rho v_t = sigma_x,
+// sigma_t = E v_x on [a, b], one homogeneous material, piecewise-constant initial stress and
+// velocity, ends free, fixed, prescribed stress sigma_d(t) or prescribed velocity v_d(t), or a
+// periodic bar.
 //
 // Method: the Riemann invariants w+ = sigma - Z v (moves at +c) and w- = sigma + Z v (moves at -c)
 // are traced back along their characteristics, reflecting at the ends, down to t = 0. A reflection

@@ -1,6 +1,6 @@
 #pragma once
-// Scalar advection u_t + a . grad u = 0: the model of the von Neumann analysis (method.md 5).
-// Density plays no role: the specific state is u itself.
+// Scalar advection u_t + a . grad u = 0: the model of the von Neumann analysis (docs/method.md,
+// "Stability"). Density plays no role: the specific state is u itself.
 
 #include "../boundary.hpp"
 

@@ -1,6 +1,6 @@
 #pragma once
-// 1D linear elastic bar (method.md 1): q = (sigma, rho v), F(q) = -(E v, sigma). The scheme works
-// with specific states q^s = (sigma / rho, v).
+// 1D linear elastic bar (docs/method.md, "Equations"): q = (sigma, rho v), F(q) = -(E v, sigma).
+// The scheme works with specific states q^s = (sigma / rho, v).
 
 #include "../boundary.hpp"
 
