@@ -7,8 +7,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <string>
+
 int main(int argc, char** argv) {
   CLI::App app{"dgmpm: Discontinuous Galerkin Material Point Method solver and stability analysis"};
+  app.set_version_flag("--version", std::string("dgmpm ") + DGMPM_VERSION);
   app.require_subcommand(1);
   dgmpm::add_run_command(app);
   dgmpm::stability::add_courant_command(app);

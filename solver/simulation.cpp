@@ -524,7 +524,8 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     summary.files.push_back(directory + "/particles.pvd");
   }
 
-  summary.run = {{"scene", scene_.source},
+  summary.run = {{"version", DGMPM_VERSION},
+                 {"scene", scene_.source},
                  {"method", scene::to_string(scene_.method)},
                  {"integrator", scene::to_string(scene_.time.integrator)},
                  {"dimension", dim},
