@@ -139,7 +139,6 @@ Simulation<Physics>::Simulation(const scene::Scene& scene)
           "exact at Courant 1 (use \"dcu\" with \"rk2\" or \"ctu\" with \"euler\")");
     loaded_ = has_loads<dim>(problem_.grid, problem_.boundaries);
     if (loaded_) power_ = load_power();
-    initial_energy_ = energy();
   } else {
     if (scene_.time.courant_auto)
       throw scene::SceneError(scene_.source +
@@ -149,8 +148,8 @@ Simulation<Physics>::Simulation(const scene::Scene& scene)
     dt_ = scene_.time.courant * h / problem_.max_wave_speed();
     mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
                                           mpm_variant(scene_.method), scene_.update);
-    initial_energy_ = energy();
   }
+  initial_energy_ = energy();
 }
 
 template <class Physics>
@@ -268,12 +267,8 @@ void Simulation<Physics>::check_growth() {
   const auto& p = problem_.particles;
   int worst = 0;
   double most = -1;
-  for (int i = 0; i < p.size(); ++i) {
-    const auto& m = problem_.materials[p.material[i]];
-    const double ei = p.mass[i] * (Physics::kinetic_energy_per_mass(p.state.col(i)) +
-                                   Physics::elastic_energy_per_mass(p.state.col(i), m));
-    if (ei > most) most = ei, worst = i;
-  }
+  for (int i = 0; i < p.size(); ++i)
+    if (const double ei = particle_energy(i).total(); ei > most) most = ei, worst = i;
   Eigen::Matrix<double, dim, 1> xi;
   const int cell = problem_.grid.locate(p.position.col(worst), xi);
   std::ostringstream s;
@@ -337,11 +332,19 @@ typename Simulation<Physics>::Energy Simulation<Physics>::energy_parts() const {
   const auto& p = problem_.particles;
   Energy e;
   for (int i = 0; i < p.size(); ++i) {
-    e.kinetic += p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i));
-    e.elastic += p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i),
-                                                              problem_.materials[p.material[i]]);
+    const Energy ei = particle_energy(i);
+    e.kinetic += ei.kinetic;
+    e.elastic += ei.elastic;
   }
   return e;
+}
+
+template <class Physics>
+typename Simulation<Physics>::Energy Simulation<Physics>::particle_energy(int i) const {
+  const auto& p = problem_.particles;
+  return {p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i)),
+          p.mass[i] *
+              Physics::elastic_energy_per_mass(p.state.col(i), problem_.materials[p.material[i]])};
 }
 
 template <class Physics>
@@ -387,6 +390,15 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
   }
 }
 
+namespace {
+// particles_NNN.EXT: the k-th output (what a run writes and what its manifest lists).
+std::string particle_file(std::size_t k, const char* ext) {
+  char name[64];
+  std::snprintf(name, sizeof name, "particles_%03zu.%s", k, ext);
+  return name;
+}
+}  // namespace
+
 template <class Physics>
 RunSummary Simulation<Physics>::run(const RunOptions& options) {
   using clock = std::chrono::steady_clock;
@@ -406,13 +418,10 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     output::create_directories(directory);
     if (land) targets = scene_.output.times;
     std::vector<std::string> planned;
-    char name[64];
-    for (std::size_t k = 0; k < scene_.output.times.size(); ++k)
-      for (const char* ext : {"csv", "vtu"})
-        if (std::string(ext) == "csv" ? csv : vtu) {
-          std::snprintf(name, sizeof name, "particles_%03zu.%s", k, ext);
-          planned.push_back(name);
-        }
+    for (std::size_t k = 0; k < scene_.output.times.size(); ++k) {
+      if (csv) planned.push_back(particle_file(k, "csv"));
+      if (vtu) planned.push_back(particle_file(k, "vtu"));
+    }
     if (vtu && !scene_.output.times.empty()) planned.push_back("particles.pvd");
     if (!scene_.output.times.empty()) planned.push_back("outputs.csv");
     planned.push_back("energy.csv");
@@ -455,19 +464,18 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   std::vector<std::pair<double, std::string>> series;  // (time, .vtu file name)
   std::vector<std::string> index;                      // outputs.csv rows
   const auto write_output = [&] {
-    char name[64];
     std::ostringstream row;
     row.precision(17);
     row << output_index << ',' << time_ << ',';
     if (csv) {
-      std::snprintf(name, sizeof name, "/particles_%03d.csv", output_index);
-      write_particles(directory + name);
-      summary.files.push_back(directory + name);
-      row << (name + 1);
+      const std::string name = particle_file(static_cast<std::size_t>(output_index), "csv");
+      write_particles(directory + "/" + name);
+      summary.files.push_back(directory + "/" + name);
+      row << name;
     }
     row << ',';
     if (vtu) {
-      std::snprintf(name, sizeof name, "particles_%03d.vtu", output_index);
+      const std::string name = particle_file(static_cast<std::size_t>(output_index), "vtu");
       vtk::write_particles<Physics>(
           directory + "/" + name, problem_.particles, problem_.materials, physical_state(),
           problem_.exact ? std::optional(exact_state(time_)) : std::nullopt);

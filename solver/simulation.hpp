@@ -134,6 +134,7 @@ class Simulation final : public SimulationBase {
   double step_towards(double target);
   void check_finite() const;
   void check_growth();
+  Energy particle_energy(int i) const;
   void warn_if_above_admissible();
   void warn_if_overfull_cell(long step, double t);
   double load_power() const;
