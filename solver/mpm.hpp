@@ -123,6 +123,7 @@ class Mpm {
   // (trapezoidal over the step) and of the velocity constraints' reactions. An estimate for the
   // blow-up check, not an exact balance: MPM conserves no discrete energy.
   double load_work() const { return load_work_; }
+  void set_load_work(double w) { load_work_ = w; }  // a restart's
 
  private:
   // --- constitutive part, from the physics ------------------------------------------------------

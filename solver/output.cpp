@@ -160,7 +160,8 @@ StreamedFile::~StreamedFile() {
 }
 
 DirectoryClaim::DirectoryClaim(const std::string& directory, const std::string& scene,
-                               const std::vector<std::string>& files, bool overwrite) {
+                               const std::vector<std::string>& files, bool overwrite, bool resume)
+    : directory_(directory), scene_path_(fs::absolute(scene).lexically_normal().string()) {
   const std::string lock = directory + "/.dgmpm.lock";
   lock_fd_ = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
   if (lock_fd_ < 0)
@@ -174,7 +175,7 @@ DirectoryClaim::DirectoryClaim(const std::string& directory, const std::string& 
                              "elsewhere (--out)");
   }
   try {
-    take_over(directory, scene, files, overwrite);
+    take_over(files, overwrite, resume);
   } catch (...) {
     ::close(lock_fd_);  // a constructor that throws runs no destructor
     lock_fd_ = -1;
@@ -182,10 +183,11 @@ DirectoryClaim::DirectoryClaim(const std::string& directory, const std::string& 
   }
 }
 
-void DirectoryClaim::take_over(const std::string& directory, const std::string& scene,
-                               const std::vector<std::string>& files, bool overwrite) {
+void DirectoryClaim::take_over(const std::vector<std::string>& files, bool overwrite,
+                               bool resume) const {
+  const std::string& directory = directory_;
+  const std::string& scene_path = scene_path_;
   const std::string manifest = directory + "/manifest.json";
-  const std::string scene_path = fs::absolute(scene).lexically_normal().string();
   std::vector<std::string> earlier;
   std::error_code ec;
   if (fs::exists(manifest, ec)) {
@@ -203,7 +205,7 @@ void DirectoryClaim::take_over(const std::string& directory, const std::string& 
         throw std::runtime_error("output directory " + directory +
                                  " has an unreadable manifest.json; --overwrite replaces it");
     }
-  } else if (!overwrite) {
+  } else if (!overwrite && !resume) {
     // Outputs of a run that left no manifest (an older dgmpm, or a copy): not ours to delete.
     for (const auto& entry : fs::directory_iterator(directory, ec))
       if (is_run_output(entry.path().filename().string()))
@@ -212,10 +214,62 @@ void DirectoryClaim::take_over(const std::string& directory, const std::string& 
                                  ") of an unknown run; write elsewhere (--out) or replace them "
                                  "(--overwrite)");
   }
-  for (const auto& f : earlier)  // names only: never outside the directory
-    if (fs::path(f).filename() == fs::path(f)) fs::remove(fs::path(directory) / f, ec);
-  nlohmann::json m{{"scene", scene_path}, {"files", files}};
-  write_atomically(manifest, [&](std::ostream& out) { out << m.dump(2) << '\n'; });
+  if (!resume)
+    for (const auto& f : earlier)  // names only: never outside the directory
+      if (fs::path(f).filename() == fs::path(f)) fs::remove(fs::path(directory) / f, ec);
+  record(files);
+}
+
+void DirectoryClaim::record(const std::vector<std::string>& files) const {
+  const nlohmann::json m{{"scene", scene_path_}, {"files", files}};
+  write_atomically(directory_ + "/manifest.json",
+                   [&](std::ostream& out) { out << m.dump(2) << '\n'; });
+}
+
+void CommittedFile::create(const std::string& path) {
+  path_ = path;
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot write " + path + reason());
+  buffer_.str("");
+  buffer_.precision(17);
+  bytes_ = 0;
+  hash_ = Fnv1a();
+}
+
+bool CommittedFile::resume(const std::string& path, std::uint64_t bytes, std::uint64_t hash) {
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec || size < bytes) return false;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(bytes, '\0');
+  if (!in.read(head.data(), static_cast<std::streamsize>(bytes))) return false;
+  Fnv1a h;
+  h.add(head.data(), head.size());
+  if (h.value != hash) return false;
+  in.close();
+  fs::resize_file(path, bytes, ec);
+  if (ec)
+    throw std::runtime_error("cannot cut " + path + " back to the checkpoint: " + ec.message());
+  path_ = path;
+  buffer_.str("");
+  buffer_.precision(17);
+  bytes_ = bytes;
+  hash_.value = hash;
+  return true;
+}
+
+void CommittedFile::commit() {
+  const std::string rows = buffer_.str();
+  if (rows.empty()) return;
+  errno = 0;
+  std::ofstream out(path_, std::ios::binary | std::ios::app);
+  out.write(rows.data(), static_cast<std::streamsize>(rows.size()));
+  out.flush();
+  if (!out) throw std::runtime_error("error while writing " + path_ + reason());
+  bytes_ += rows.size();
+  hash_.add(rows.data(), rows.size());
+  buffer_.str("");
 }
 
 DirectoryClaim::~DirectoryClaim() {

@@ -3,8 +3,10 @@
 // when complete, so a reader never sees half a file; the temporary file is removed on every
 // failure path and when SIGINT or SIGTERM ends the process.
 
+#include <cstdint>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,36 @@ class StreamedFile {
   int slot_ = -1;  // registered for removal on SIGINT / SIGTERM
 };
 
+// 64-bit FNV-1a, fed incrementally (checkpoints and the histories they record).
+struct Fnv1a {
+  std::uint64_t value = 14695981039346656037ull;
+  void add(const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) value = (value ^ b[i]) * 1099511628211ull;
+  }
+};
+
+// A history written by a run that takes checkpoints: rows are kept in memory and appended to the
+// file at each checkpoint (commit), so the file holds complete rows up to the last checkpoint,
+// whose length and hash the checkpoint records; a restart cuts the file back to that length.
+class CommittedFile {
+ public:
+  void create(const std::string& path);  // a new, empty file
+  // Continues the file as a checkpoint recorded it: true when its first `bytes` bytes hash to
+  // `hash` (the file is cut there); false when it is missing, shorter or different.
+  bool resume(const std::string& path, std::uint64_t bytes, std::uint64_t hash);
+  std::ostream& stream() { return buffer_; }
+  void commit();  // appends what was written since the last commit; throws naming the path
+  std::uint64_t bytes() const { return bytes_; }
+  std::uint64_t hash() const { return hash_.value; }
+
+ private:
+  std::string path_;
+  std::ostringstream buffer_;
+  std::uint64_t bytes_ = 0;
+  Fnv1a hash_;
+};
+
 void create_directories(const std::string& directory);
 
 // A run owns its output directory while it runs (an exclusive lock on DIR/.dgmpm.lock, released
@@ -43,15 +75,18 @@ void create_directories(const std::string& directory);
 // run of the same scene replaces exactly the earlier run's files.
 class DirectoryClaim {
  public:
+  // `resume`: a restart continues the outputs it finds (nothing is removed).
   DirectoryClaim(const std::string& directory, const std::string& scene,
-                 const std::vector<std::string>& files, bool overwrite);
+                 const std::vector<std::string>& files, bool overwrite, bool resume = false);
   ~DirectoryClaim();
+  // Rewrites the manifest with these files (checkpoints are added as they are written).
+  void record(const std::vector<std::string>& files) const;
   DirectoryClaim(const DirectoryClaim&) = delete;
   DirectoryClaim& operator=(const DirectoryClaim&) = delete;
 
  private:
-  static void take_over(const std::string& directory, const std::string& scene,
-                        const std::vector<std::string>& files, bool overwrite);
+  void take_over(const std::vector<std::string>& files, bool overwrite, bool resume) const;
+  std::string directory_, scene_path_;
   int lock_fd_ = -1;
 };
 

@@ -1,7 +1,9 @@
 #include "solver/run_command.hpp"
 
+#include "solver/checkpoint.hpp"
 #include "solver/simulation.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -15,7 +17,36 @@ struct RunArguments {
   std::string out;
   bool json = false;
   bool overwrite = false;
+  bool scene_given = false;
+  std::string checkpoint_every;  // N (steps) or Ts (simulated seconds)
+  int checkpoint_keep = 0;
+  std::string restart;
 };
+
+// "--checkpoint-every": N steps, or T simulated seconds written "Ts" (e.g. 2e-4s).
+void parse_checkpoint_every(const std::string& text, RunOptions& options) {
+  const auto refuse = [&] {
+    return scene::SceneError("--checkpoint-every: value \"" + text +
+                             "\"; allowed: a positive whole number of steps (e.g. 1000) or a "
+                             "positive time in simulated seconds ending in s (e.g. 2e-4s)");
+  };
+  if (text.empty()) throw refuse();
+  std::size_t used = 0;
+  try {
+    if (text.back() == 's') {
+      const std::string number = text.substr(0, text.size() - 1);
+      const double t = std::stod(number, &used);
+      if (used != number.size() || !(t > 0) || !std::isfinite(t)) throw refuse();
+      options.checkpoint_seconds = t;
+    } else {
+      const long n = std::stol(text, &used);
+      if (used != text.size() || n <= 0) throw refuse();
+      options.checkpoint_steps = n;
+    }
+  } catch (const std::logic_error&) {  // std::stod / std::stol: not a number, out of range
+    throw refuse();
+  }
+}
 
 void print_human(const scene::Scene& scene, const SimulationBase& sim, const RunSummary& s) {
   std::printf(
@@ -51,10 +82,16 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
 
 int run(const RunArguments& args) {
   try {
-    const scene::Scene scene = scene::load_scene(args.scene);
+    RunOptions options;
+    if (!args.checkpoint_every.empty()) parse_checkpoint_every(args.checkpoint_every, options);
+    options.checkpoint_keep = args.checkpoint_keep;
+    std::string scene_path = args.scene;
+    if (!args.restart.empty() && !args.scene_given)  // the scene the checkpoint was written by
+      scene_path = checkpoint::read(args.restart).header.value("scene_source", args.scene);
+    const scene::Scene scene = scene::load_scene(scene_path);
     const auto owned = make_simulation(scene);
     SimulationBase& sim = *owned;
-    RunOptions options;
+    if (!args.restart.empty()) sim.restore(args.restart);
     if (!args.out.empty()) options.output_directory = args.out;
     options.progress = true;
     options.overwrite = args.overwrite;
@@ -86,7 +123,17 @@ void add_run_command(CLI::App& app) {
   cmd->add_flag("--json", args->json, "Print one JSON object with the run's summary");
   cmd->add_flag("--overwrite", args->overwrite,
                 "Replace another scene's outputs in the output directory");
-  cmd->callback([args] {
+  cmd->add_option("--checkpoint-every", args->checkpoint_every,
+                  "Write a checkpoint into the output directory every N steps (N) or every T "
+                  "simulated seconds (Ts, e.g. 2e-4s)");
+  cmd->add_option("--checkpoint-keep", args->checkpoint_keep,
+                  "Keep only the newest K checkpoints (default: all)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--restart", args->restart,
+                  "Continue from a checkpoint (the scene defaults to the one that wrote it)")
+      ->check(CLI::ExistingFile);
+  cmd->callback([args, cmd] {
+    args->scene_given = cmd->count("scene") > 0;
     const int code = run(*args);
     if (code != 0) throw CLI::RuntimeError(code);
   });

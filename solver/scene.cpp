@@ -981,7 +981,9 @@ class Parser {
 }  // namespace
 
 Scene parse_scene(const nlohmann::json& document, const std::string& source) {
-  return Parser(source).parse(document);
+  Scene scene = Parser(source).parse(document);
+  scene.document = document;
+  return scene;
 }
 
 Scene load_scene(const std::string& path) {

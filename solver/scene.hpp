@@ -9,7 +9,7 @@
 
 #include <array>
 #include <cstddef>
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -112,7 +112,8 @@ struct Scene {
   };
   std::optional<PlaneWave> plane_wave;
   OutputSpec output;
-  std::string source;  // file name, for messages
+  std::string source;       // file name, for messages
+  nlohmann::json document;  // the parsed file (a checkpoint records it: restarts check it)
 };
 
 Scene parse_scene(const nlohmann::json& document, const std::string& source = "scene");

@@ -1,5 +1,6 @@
 #include "solver/simulation.hpp"
 
+#include "solver/checkpoint.hpp"
 #include "solver/mpm.hpp"
 #include "solver/output.hpp"
 #include "solver/vtk_output.hpp"
@@ -8,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -404,48 +406,78 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   RunSummary summary;
-  summary.energy_initial = energy();
-  summary.dt_min = summary.dt_max = dt_;
+  Progress& done = progress_;
+  const bool resumed = !restored_from_.empty();
+  if (!resumed) done.dt_min = done.dt_max = dt_;
 
   const std::string directory = options.output_directory.value_or(scene_.output.directory);
   const bool writes = !directory.empty();
+  const bool checkpoints = options.checkpoint_steps > 0 || options.checkpoint_seconds > 0;
+  if (checkpoints && !writes)
+    throw scene::SceneError(scene_.source +
+                            ": checkpoints need an output directory (output.directory or --out)");
   const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
-  std::vector<double> targets;
+  const auto& output_times = scene_.output.times;
   std::optional<output::DirectoryClaim> claim;
   const bool land = scene_.output.land;
-  std::size_t next_output = 0;  // without landing
+  std::vector<std::string> planned;
   if (writes) {
     output::create_directories(directory);
-    if (land) targets = scene_.output.times;
-    std::vector<std::string> planned;
-    for (std::size_t k = 0; k < scene_.output.times.size(); ++k) {
+    for (std::size_t k = 0; k < output_times.size(); ++k) {
       if (csv) planned.push_back(particle_file(k, "csv"));
       if (vtu) planned.push_back(particle_file(k, "vtu"));
     }
-    if (vtu && !scene_.output.times.empty()) planned.push_back("particles.pvd");
-    if (!scene_.output.times.empty()) planned.push_back("outputs.csv");
+    if (vtu && !output_times.empty()) planned.push_back("particles.pvd");
+    if (!output_times.empty()) planned.push_back("outputs.csv");
     planned.push_back("energy.csv");
     planned.push_back("summary.json");
-    claim.emplace(directory, scene_.source, planned, options.overwrite);
+    std::vector<std::string> listed = planned;
+    listed.insert(listed.end(), done.checkpoints.begin(), done.checkpoints.end());
+    claim.emplace(directory, scene_.source, listed, options.overwrite, resumed);
   }
-  targets.push_back(scene_.time.end);
-  std::sort(targets.begin(), targets.end());
-  targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+  if (resumed) {
+    std::error_code ec;
+    const auto here = std::filesystem::weakly_canonical(directory, ec);
+    if (!writes || here != std::filesystem::weakly_canonical(restored_directory_, ec))
+      warnings_.push_back("restarted from " + restored_from_ + " into another directory: the " +
+                          std::to_string(done.outputs) +
+                          " outputs written before the checkpoint and the energy history up to "
+                          "it are in " +
+                          restored_directory_);
+  }
 
-  output::StreamedFile history;
-  const auto write_history = [&](double dt) {
+  // The energy history: streamed under a temporary name, or, with checkpoints, committed at each
+  // one (the file then always matches the last checkpoint).
+  output::StreamedFile streamed;
+  output::CommittedFile committed;
+  const std::string history_path = directory + "/energy.csv";
+  const char* history_header = "step,time,dt,kinetic,elastic,total,boundary_work\n";
+  const auto write_history = [&](std::ostream& out, double dt) {
     const Energy e = energy_parts();
-    history.stream() << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic
-                     << ',' << e.total() << ',' << work_ << '\n';
+    out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ','
+        << e.total() << ',' << work_ << '\n';
   };
-  if (writes) {
-    history = output::StreamedFile(directory + "/energy.csv");
-    history.stream() << "step,time,dt,kinetic,elastic,total,boundary_work\n";
-    write_history(0.0);
+  std::ostream* history = nullptr;
+  const bool commits = checkpoints || resumed;
+  if (writes && commits) {
+    if (!resumed || !committed.resume(history_path, done.history_bytes, done.history_hash)) {
+      if (resumed)
+        warnings_.push_back(history_path + " does not hold the energy history the checkpoint " +
+                            "recorded: it restarts at step " + std::to_string(steps_));
+      committed.create(history_path);
+      committed.stream() << history_header;
+      if (!resumed || steps_ == 0) write_history(committed.stream(), 0.0);
+    }
+    history = &committed.stream();
+  } else if (writes) {
+    streamed = output::StreamedFile(history_path);
+    streamed.stream() << history_header;
+    write_history(streamed.stream(), 0.0);
+    history = &streamed.stream();
   }
 
   // The step count up front: a run that would need more than time.max_steps is refused.
-  const double expected_steps = std::ceil((scene_.time.end - time_) / dt_);
+  const double expected_steps = std::ceil((scene_.time.end - time_) / dt_) + steps_;
   if (expected_steps > static_cast<double>(scene_.time.max_steps)) {
     std::ostringstream s;
     s << scene_.source << ": time.end: value " << scene_.time.end << " needs about "
@@ -456,79 +488,117 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   }
   const bool progress = options.progress && ::isatty(STDERR_FILENO);
   if (progress)
-    std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(), expected_steps,
-                 dt_);
+    std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(),
+                 expected_steps - steps_, dt_);
   auto last_report = start;
   const double t_end = scene_.time.end;
-  int output_index = 0;
-  std::vector<std::pair<double, std::string>> series;  // (time, .vtu file name)
-  std::vector<std::string> index;                      // outputs.csv rows
   const auto write_output = [&] {
+    const std::size_t k = done.outputs;
     std::ostringstream row;
     row.precision(17);
-    row << output_index << ',' << time_ << ',';
+    row << k << ',' << time_ << ',';
     if (csv) {
-      const std::string name = particle_file(static_cast<std::size_t>(output_index), "csv");
+      const std::string name = particle_file(k, "csv");
       write_particles(directory + "/" + name);
-      summary.files.push_back(directory + "/" + name);
+      done.files.push_back(name);
       row << name;
     }
     row << ',';
     if (vtu) {
-      const std::string name = particle_file(static_cast<std::size_t>(output_index), "vtu");
+      const std::string name = particle_file(k, "vtu");
       vtk::write_particles<Physics>(
           directory + "/" + name, problem_.particles, problem_.materials, physical_state(),
           problem_.exact ? std::optional(exact_state(time_)) : std::nullopt);
-      summary.files.push_back(directory + "/" + name);
-      series.emplace_back(time_, name);
+      done.files.push_back(name);
+      done.series.emplace_back(time_, name);
       row << name;
     }
-    index.push_back(row.str());
-    ++output_index;
+    done.index_rows.push_back(row.str());
+    ++done.outputs;
   };
-  for (double target : targets) {
-    for (double controlled = dt_, dt; (dt = step_towards(target)) > 0.0; controlled = dt_) {
-      if (steps_ >= scene_.time.max_steps && time_ < t_end)
-        throw std::runtime_error(format_step(steps_, time_) + ": time.max_steps (" +
-                                 std::to_string(scene_.time.max_steps) +
-                                 ") reached before the end time; the automatic step shrank "
-                                 "(raise time.max_steps to go on)");
-      // The range of the controlled step; steps shortened to land on a time are not counted.
-      summary.dt_min = std::min(summary.dt_min, controlled);
-      summary.dt_max = std::max(summary.dt_max, controlled);
-      if (writes) write_history(dt);
-      // Without landing, each output is written at the step nearest its time.
-      while (writes && !land && next_output < scene_.output.times.size() &&
-             time_ >= scene_.output.times[next_output] - 0.5 * dt_) {
-        write_output();
-        ++next_output;
+  // Output k is due once the run reaches its time (landing) or its nearest step (not landing).
+  const auto output_due = [&] {
+    return writes && done.outputs < output_times.size() &&
+           time_ >= output_times[done.outputs] - (land ? 0.0 : 0.5 * dt_);
+  };
+  double next_checkpoint_time = std::numeric_limits<double>::infinity();
+  if (options.checkpoint_seconds > 0)
+    next_checkpoint_time =
+        (std::floor(time_ / options.checkpoint_seconds) + 1) * options.checkpoint_seconds;
+  const auto take_checkpoint = [&] {
+    committed.commit();
+    done.history_bytes = committed.bytes();
+    done.history_hash = committed.hash();
+    done.checkpoint_step = steps_;
+    char name[64];
+    std::snprintf(name, sizeof name, "checkpoint_%09ld.ckpt", steps_);
+    std::vector<std::string> kept = done.checkpoints;
+    kept.push_back(name);
+    std::vector<std::string> dropped;
+    if (options.checkpoint_keep > 0)
+      while (kept.size() > static_cast<std::size_t>(options.checkpoint_keep)) {
+        dropped.push_back(kept.front());
+        kept.erase(kept.begin());
       }
-      if (progress) {
-        const auto now = clock::now();
-        const double elapsed = std::chrono::duration<double>(now - start).count();
-        if (elapsed > 2.0 && now - last_report > std::chrono::milliseconds(500)) {
-          last_report = now;
-          const double left = elapsed * (t_end - time_) / time_;
-          std::fprintf(stderr, "\rstep %ld  t = %.6g / %.6g  (%.1f%%)  about %.0f s left   ",
-                       steps_, time_, t_end, 100.0 * time_ / t_end, left);
-        }
+    done.checkpoints = kept;  // recorded in the checkpoint itself
+    write_checkpoint(directory + "/" + name);
+    std::vector<std::string> listed = planned;
+    listed.insert(listed.end(), kept.begin(), kept.end());
+    claim->record(listed);
+    for (const auto& f : dropped) std::filesystem::remove(directory + "/" + f);
+  };
+
+  for (;;) {
+    while (output_due()) write_output();
+    if (checkpoints && steps_ > std::max(done.checkpoint_step, 0L) &&
+        ((options.checkpoint_steps > 0 && steps_ % options.checkpoint_steps == 0) ||
+         time_ >= next_checkpoint_time)) {
+      take_checkpoint();
+      if (time_ >= next_checkpoint_time)
+        next_checkpoint_time =
+            (std::floor(time_ / options.checkpoint_seconds) + 1) * options.checkpoint_seconds;
+    }
+    double target = t_end;
+    if (land && writes && done.outputs < output_times.size())
+      target = std::min(target, output_times[done.outputs]);
+    const double controlled = dt_;
+    const double dt = step_towards(target);
+    if (dt == 0.0) {
+      if (target >= t_end) break;
+      continue;  // landed on an output time within round-off: written above
+    }
+    if (steps_ >= scene_.time.max_steps && time_ < t_end)
+      throw std::runtime_error(format_step(steps_, time_) + ": time.max_steps (" +
+                               std::to_string(scene_.time.max_steps) +
+                               ") reached before the end time; the automatic step shrank "
+                               "(raise time.max_steps to go on)");
+    // The range of the controlled step; steps shortened to land on a time are not counted.
+    done.dt_min = std::min(done.dt_min, controlled);
+    done.dt_max = std::max(done.dt_max, controlled);
+    if (history) write_history(*history, dt);
+    if (progress) {
+      const auto now = clock::now();
+      const double elapsed = std::chrono::duration<double>(now - start).count();
+      if (elapsed > 2.0 && now - last_report > std::chrono::milliseconds(500)) {
+        last_report = now;
+        const double left = elapsed * (t_end - time_) / time_;
+        std::fprintf(stderr, "\rstep %ld  t = %.6g / %.6g  (%.1f%%)  about %.0f s left   ", steps_,
+                     time_, t_end, 100.0 * time_ / t_end, left);
       }
     }
-    if (writes && land &&
-        std::binary_search(scene_.output.times.begin(), scene_.output.times.end(), target))
-      write_output();
   }
   if (progress) std::fprintf(stderr, "\r%78s\r", "");
   if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
-  if (writes && !index.empty()) {
+  for (const auto& name : done.files) summary.files.push_back(directory + "/" + name);
+  if (writes && !done.index_rows.empty()) {
     output::write_atomically(directory + "/outputs.csv", [&](std::ostream& out) {
       out << "index,time,csv,vtu\n";
-      for (const auto& r : index) out << r << '\n';
+      for (const auto& r : done.index_rows) out << r << '\n';
     });
     summary.files.push_back(directory + "/outputs.csv");
   }
-  if (vtu && writes && !series.empty()) {
-    vtk::write_series(directory + "/particles.pvd", series);
+  if (vtu && writes && !done.series.empty()) {
+    vtk::write_series(directory + "/particles.pvd", done.series);
     summary.files.push_back(directory + "/particles.pvd");
   }
 
@@ -541,6 +611,10 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
                  {"cells", problem_.grid.num_cells()}};
   if (dim > 1 && scene_.method == scene::Method::dgmpm)
     summary.run["flux"] = to_string(scene_.flux);
+  if (resumed) summary.run["restarted_from"] = restored_from_;
+  summary.energy_initial = initial_energy_;
+  summary.dt_min = done.dt_min;
+  summary.dt_max = done.dt_max;
   const double to_courant = problem_.max_wave_speed() / problem_.grid.cell_size.minCoeff();
   summary.courant_min = summary.dt_min * to_courant;
   summary.courant_max = summary.dt_max * to_courant;
@@ -562,7 +636,10 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   }
   summary.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
   if (writes) {
-    history.close();
+    if (commits)
+      committed.commit();
+    else
+      streamed.close();
     summary.files.push_back(directory + "/energy.csv");
     const std::string path = directory + "/summary.json";
     summary.files.push_back(path);
@@ -570,6 +647,137 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     output::write_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
   }
   return summary;
+}
+
+namespace {
+template <class M>
+void put(checkpoint::PayloadWriter& w, const M& m) {
+  w.bytes(m.data(), sizeof(*m.data()) * static_cast<std::size_t>(m.size()));
+}
+template <class M>
+void get(checkpoint::PayloadReader& r, M& m) {
+  r.bytes(m.data(), sizeof(*m.data()) * static_cast<std::size_t>(m.size()));
+}
+}  // namespace
+
+template <class Physics>
+void Simulation<Physics>::write_checkpoint(const std::string& path) const {
+  using checkpoint::bits;
+  const auto& p = problem_.particles;
+  const Progress& d = progress_;
+  nlohmann::json series = nlohmann::json::array();
+  for (const auto& [t, name] : d.series) series.push_back({bits(t), name});
+  checkpoint::File file;
+  file.header = {
+      {"format", checkpoint::kFormat},
+      {"version", DGMPM_VERSION},
+      {"scene_source", std::filesystem::absolute(scene_.source).lexically_normal().string()},
+      {"scene", checkpoint::scene_identity(scene_)},
+      {"dimension", dim},
+      {"components", ncomp},
+      {"particles", p.size()},
+      {"step", steps_},
+      {"time", bits(time_)},
+      {"dt", bits(dt_)},
+      {"work", bits(work_)},
+      {"power", bits(power_)},
+      {"most_work", bits(most_work_)},
+      {"initial_energy", bits(initial_energy_)},
+      {"mpm_load_work", bits(mpm_ ? mpm_->load_work() : 0.0)},
+      {"since_growth_check", since_growth_check_},
+      {"overfull_warned", overfull_warned_},
+      {"warnings", warnings_},
+      {"progress",
+       {{"outputs", d.outputs},
+        {"series", series},
+        {"index_rows", d.index_rows},
+        {"files", d.files},
+        {"checkpoints", d.checkpoints},
+        {"dt_min", bits(d.dt_min)},
+        {"dt_max", bits(d.dt_max)},
+        {"history_bytes", d.history_bytes},
+        {"history_hash", d.history_hash},
+        {"checkpoint_step", d.checkpoint_step}}}};
+  checkpoint::PayloadWriter w(file.payload);
+  put(w, p.position);
+  put(w, p.mass);
+  put(w, p.volume);
+  put(w, p.state);
+  put(w, p.material);
+  put(w, p.id);
+  put(w, reference_position_);
+  checkpoint::write(path, file);
+}
+
+template <class Physics>
+void Simulation<Physics>::restore(const std::string& path) {
+  using checkpoint::from_bits;
+  const checkpoint::File file = checkpoint::read(path);
+  const nlohmann::json& h = file.header;
+  checkpoint::check_compatible(path, h, scene_);
+  auto& p = problem_.particles;
+  try {
+    if (h.at("dimension") != dim || h.at("components") != ncomp || h.at("particles") != p.size())
+      throw scene::SceneError(path + ": cannot restart from this checkpoint: it holds " +
+                              h.at("particles").dump() + " particles in " +
+                              h.at("dimension").dump() + "D, the scene " +
+                              std::to_string(p.size()) + " in " + std::to_string(dim) + "D");
+    ParticleSet restored;
+    restored.resize(p.size());
+    Eigen::Matrix<double, dim, Eigen::Dynamic> reference(dim, p.size());
+    checkpoint::PayloadReader r(path, file.payload);
+    get(r, restored.position);
+    get(r, restored.mass);
+    get(r, restored.volume);
+    get(r, restored.state);
+    get(r, restored.material);
+    get(r, restored.id);
+    get(r, reference);
+    r.expect_end();
+    for (int m : restored.material)
+      if (m < 0 || m >= static_cast<int>(problem_.materials.size()))
+        throw scene::SceneError(path + ": cannot restart from this checkpoint: corrupt material");
+    const auto u = [&](const nlohmann::json& j, const char* key) {
+      return from_bits(j.at(key).get<std::uint64_t>());
+    };
+    Progress d;
+    const nlohmann::json& g = h.at("progress");
+    d.outputs = g.at("outputs").get<std::size_t>();
+    for (const auto& e : g.at("series"))
+      d.series.emplace_back(from_bits(e.at(0).get<std::uint64_t>()), e.at(1).get<std::string>());
+    d.index_rows = g.at("index_rows").get<std::vector<std::string>>();
+    d.files = g.at("files").get<std::vector<std::string>>();
+    d.checkpoints = g.at("checkpoints").get<std::vector<std::string>>();
+    d.dt_min = u(g, "dt_min");
+    d.dt_max = u(g, "dt_max");
+    d.history_bytes = g.at("history_bytes").get<std::uint64_t>();
+    d.history_hash = g.at("history_hash").get<std::uint64_t>();
+    d.checkpoint_step = g.at("checkpoint_step").get<long>();
+    // All read: the state changes only now.
+    steps_ = h.at("step").get<long>();
+    time_ = u(h, "time");
+    dt_ = u(h, "dt");
+    work_ = u(h, "work");
+    power_ = u(h, "power");
+    most_work_ = u(h, "most_work");
+    initial_energy_ = u(h, "initial_energy");
+    since_growth_check_ = h.at("since_growth_check").get<int>();
+    overfull_warned_ = h.at("overfull_warned").get<bool>();
+    warnings_ = h.at("warnings").get<std::vector<std::string>>();
+    p = std::move(restored);
+    reference_position_ = std::move(reference);
+    progress_ = std::move(d);
+    if (mpm_) mpm_->set_load_work(u(h, "mpm_load_work"));
+    if (stepper_) stepper_->rebuild(p, problem_.materials);
+  } catch (const nlohmann::json::exception& e) {
+    throw scene::SceneError(path +
+                            ": cannot restart from this checkpoint: its header is "
+                            "incomplete (" +
+                            std::string(e.what()) + ")");
+  }
+  restored_from_ = path;
+  restored_directory_ = std::filesystem::path(path).parent_path().string();
+  if (restored_directory_.empty()) restored_directory_ = ".";
 }
 
 template class Simulation<ElasticBar>;

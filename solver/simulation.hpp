@@ -10,6 +10,7 @@
 
 #include <dgmpm/stepper.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -44,6 +45,12 @@ struct RunOptions {
   bool progress = false;                        // progress line on stderr
   bool overwrite =
       false;  // replace another scene's outputs in the directory (output::DirectoryClaim)
+  // Checkpoints, written into the output directory as checkpoint_<step>.ckpt: every
+  // `checkpoint_steps` steps and/or after each `checkpoint_seconds` of simulated time (0: never);
+  // the newest `checkpoint_keep` are kept (0: all).
+  long checkpoint_steps = 0;
+  double checkpoint_seconds = 0;
+  int checkpoint_keep = 0;
 };
 
 // Errors ||u_h - u|| / ||u|| over particles, u_p a column (the Euclidean norm of its components
@@ -62,6 +69,9 @@ class SimulationBase {
   virtual RunSummary run(const RunOptions& options = {}) = 0;
   virtual int num_particles() const = 0;
   virtual int num_cells() const = 0;
+  // Continues from a checkpoint written by run(): the next run() ends bit for bit as the run that
+  // wrote it would have. Throws scene::SceneError for a checkpoint of another scene or version.
+  virtual void restore(const std::string& checkpoint) = 0;
 };
 
 template <class Physics>
@@ -101,6 +111,7 @@ class Simulation final : public SimulationBase {
   void advance_to(double t_end);
   // The whole scene: steps, outputs, summary.
   RunSummary run(const RunOptions& options = {}) override;
+  void restore(const std::string& checkpoint) override;
 
   // Physical state (sigma, v) of every particle: 1D (sigma, v); 2D (sigma_xx, sigma_yy,
   // sigma_xy, v_x, v_y).
@@ -139,6 +150,22 @@ class Simulation final : public SimulationBase {
   void warn_if_overfull_cell(long step, double t);
   double load_power() const;
   void write_particles(const std::string& path) const;
+  void write_checkpoint(const std::string& path) const;
+
+  // What run() has done so far: a checkpoint records it, a restart continues from it.
+  struct Progress {
+    std::size_t outputs = 0;                             // particle outputs written
+    std::vector<std::pair<double, std::string>> series;  // (time, .vtu file name)
+    std::vector<std::string> index_rows;                 // outputs.csv rows
+    std::vector<std::string> files;                      // particle files written (names)
+    std::vector<std::string> checkpoints;                // kept checkpoint files (names)
+    double dt_min = 0, dt_max = 0;                       // of the controlled steps
+    std::uint64_t history_bytes = 0, history_hash = 0;   // energy.csv at the checkpoint
+    long checkpoint_step = -1;                           // step of the last checkpoint
+  };
+  Progress progress_;
+  std::string restored_from_;  // the checkpoint a restart began at
+  std::string restored_directory_;
 
   scene::Scene scene_;
   Problem<Physics> problem_;
