@@ -733,7 +733,8 @@ class Parser {
         }
         if (!meet) continue;
         // A seed of body p inside body q's box: only the cells of the two boxes' intersection.
-        for (const auto& [p, q] : {std::pair{i, j}, std::pair{j, i}}) {
+        for (const auto& pq : {std::pair{i, j}, std::pair{j, i}}) {
+          const auto p = pq.first, q = pq.second;  // not bindings: clang 14 cannot capture them
           std::optional<Seed> shared;
           for_each_seed(s, s.bodies[p], box_cells(s, lo, hi), [&](const Seed& seed) {
             for (std::size_t a = 0; a < dim; ++a)
@@ -1003,7 +1004,10 @@ Scene load_scene(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path + ": cannot read the scene: read error");
+  return parse_scene_text(text.str(), path);
+}
 
+Scene parse_scene_text(const std::string& raw, const std::string& path) {
   // nlohmann keeps the last of duplicated keys silently; a scene written by hand must not.
   struct Frame {
     bool array;
@@ -1042,7 +1046,6 @@ Scene load_scene(const std::string& path) {
     return true;
   };
   json document;
-  const std::string raw = text.str();
   try {
     document = json::parse(raw, on_event);
   } catch (const json::exception& e) {

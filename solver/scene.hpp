@@ -118,6 +118,9 @@ struct Scene {
 
 Scene parse_scene(const nlohmann::json& document, const std::string& source = "scene");
 Scene load_scene(const std::string& path);  // SceneError also for unreadable or invalid JSON
+// A scene file's text (duplicate keys refused, JSON errors with line and column); `source` names
+// it in messages.
+Scene parse_scene_text(const std::string& text, const std::string& source);
 
 const char* to_string(Method);
 const char* to_string(MpmUpdate);

@@ -31,6 +31,7 @@ struct CourantOptions {
   double poisson = 0.3, aspect = 1.0;
   bool json = false;
   int map = 0;
+  CourantAnalysis analysis = CourantAnalysis::all;
   // The options the user gave (CLI11 counts), to refuse those that do not apply.
   std::vector<std::pair<std::string, const CLI::Option*>> given;
   bool has(const std::string& name) const {
@@ -237,6 +238,7 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
                    "to --scene: the scene's own particles, integrator, flux and materials are "
                    "analysed (L2 criterion)");
       if (!scene_analysis()) throw std::invalid_argument("--scene is not available in this build");
+      if (o.analysis != CourantAnalysis::all) return 0;
       return scene_analysis()(o.scene, o.json, out, err);
     }
     AnalysisSetting setting;
@@ -274,6 +276,7 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
     if (o.has("--masses") && masses.empty())
       throw std::invalid_argument("--masses is empty; give one mass per particle, or no --masses");
     if (o.map > 0) {
+      if (o.analysis != CourantAnalysis::all) return 0;
       if (o.dim == 1) {
         if (o.json) throw std::invalid_argument("--json with --map needs --dim 2");
         print_map(o.map, masses, setting.time, criterion, setting.model, out);
@@ -295,6 +298,8 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
         layout.positions.push_back(x);
     layout.masses = masses;
     validate(layout);
+    if (o.analysis == CourantAnalysis::none || (o.analysis == CourantAnalysis::quick && o.dim > 1))
+      return 0;
     print_result(layout, setting, criterion, admissible_courant(layout, setting, criterion), o.json,
                  out);
     return 0;
@@ -311,7 +316,13 @@ void set_scene_analysis(SceneAnalysis analysis) {
 }
 
 void add_courant_command(CLI::App& app, std::ostream& out, std::ostream& err) {
+  add_courant_command(app, out, err, CourantAnalysis::all);
+}
+
+void add_courant_command(CLI::App& app, std::ostream& out, std::ostream& err,
+                         CourantAnalysis analysis) {
   auto options = std::make_shared<CourantOptions>();
+  options->analysis = analysis;
   CLI::App* sub = app.add_subcommand(
       "courant",
       "Admissible Courant number C* of a DGMPM particle layout: the largest C* such that every "
@@ -381,10 +392,11 @@ void add_courant_command(CLI::App& app) {
   add_courant_command(app, std::cout, std::cerr);
 }
 
-int courant_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+int courant_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                 CourantAnalysis analysis) {
   CLI::App app{"dgmpm"};
   app.require_subcommand(1);
-  add_courant_command(app, out, err);
+  add_courant_command(app, out, err, analysis);
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   reversed.push_back("courant");  // CLI11 takes the arguments last first
   try {
