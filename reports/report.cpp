@@ -1,5 +1,7 @@
 #include "reports/report.hpp"
 
+#include "solver/installation.hpp"
+
 #include "solver/output.hpp"
 #include "solver/simulation.hpp"
 #include "stability/admissible_courant.hpp"
@@ -7,6 +9,7 @@
 #include "stability/layout.hpp"
 
 #include <gsl/gsl_fit.h>
+#include <omp.h>
 #include <spawn.h>
 #include <sys/wait.h>
 
@@ -59,34 +62,27 @@ std::string sci(double x, int digits = 2) {
   return s.str();
 }
 
-// Output of a command, first line only; empty when it fails.
-std::string command_line_output(const std::string& command) {
-  std::string out;
-  if (FILE* f = ::popen(command.c_str(), "r")) {
-    char buffer[256];
-    if (std::fgets(buffer, sizeof buffer, f)) out = buffer;
-    ::pclose(f);
-  }
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-  return out;
-}
-
 struct Environment {
-  std::string commit, build_type, cpu, date;
+  std::string commit, build_type, cpu, date, load;
   unsigned cores = 0;
 };
 
 Environment environment() {
   Environment e;
-  const std::string git = "git -C '" + std::string(DGMPM_SOURCE_DIR) + "' ";
-  e.commit = command_line_output(git + "rev-parse HEAD 2>/dev/null");
-  if (e.commit.empty())
-    e.commit = "unknown";
-  else if (!command_line_output(git + "status --porcelain --untracked-files=no 2>/dev/null")
-                .empty())
-    e.commit += " (with uncommitted changes)";
+  // Recorded at build time (the binary may run far from its sources).
+  std::ifstream commit(data_directory() + "/commit.txt");
+  if (!std::getline(commit, e.commit) || e.commit.empty()) e.commit = "unknown";
   e.build_type = DGMPM_BUILD_TYPE;
   if (e.build_type.empty()) e.build_type = "unspecified";
+  std::ifstream loadavg("/proc/loadavg");
+  double l1 = 0, l5 = 0, l15 = 0;
+  if (loadavg >> l1 >> l5 >> l15) {
+    std::ostringstream s;
+    s << l1 << ", " << l5 << ", " << l15;
+    e.load = s.str();
+  } else {
+    e.load = "unknown";
+  }
   std::ifstream cpuinfo("/proc/cpuinfo");
   for (std::string line; std::getline(cpuinfo, line);)
     if (line.rfind("model name", 0) == 0) {
@@ -355,7 +351,7 @@ std::vector<StiffCase> stiff_cases(bool quick) {
 int run_python(const std::string& script_name, const std::vector<std::string>& arguments,
                std::ostream& log) {
   const std::string python = DGMPM_PYTHON;
-  const std::string script = std::string(DGMPM_SOURCE_DIR) + "/reports/" + script_name;
+  const std::string script = data_file("reports/" + script_name);
   std::vector<std::string> args = {python, script};
   args.insert(args.end(), arguments.begin(), arguments.end());
   std::vector<char*> argv;
@@ -391,7 +387,7 @@ const PlateRun plate_runs[] = {
 
 double run_plate(const PlateRun& run, const std::string& dir) {
   nlohmann::json doc;
-  std::ifstream(std::string(DGMPM_SOURCE_DIR) + "/scenes/plate_impact.json") >> doc;
+  std::ifstream(data_file("scenes/plate_impact.json")) >> doc;
   doc["method"] = run.method;
   if (std::string(run.method) == "dgmpm") {
     doc["flux"] = run.flux;
@@ -619,10 +615,13 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
   write_file(dir, "report.md", result.files, [&](std::ostream& md) {
     md << "# DGMPM report" << (options.quick ? " (quick mode)" : "") << "\n\n";
     md << "| | |\n| --- | --- |\n";
+    md << "| dgmpm | " << version() << " |\n";
     md << "| commit | `" << env.commit << "` |\n";
     md << "| build type | " << env.build_type << " |\n";
     md << "| CPU | " << env.cpu << " |\n";
     md << "| cores | " << env.cores << " |\n";
+    md << "| threads | " << omp_get_max_threads() << " (OpenMP, the 2D stability analysis) |\n";
+    md << "| load at the start | " << env.load << " (1, 5, 15 min averages, /proc/loadavg) |\n";
     md << "| date | " << env.date << " |\n";
     md << "| report time | " << fixed(result.wall_seconds, 1) << " s (accuracy runs "
        << fixed(accuracy_seconds, 1) << " s, stability " << fixed(stability_seconds, 1)

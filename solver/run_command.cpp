@@ -1,6 +1,7 @@
 #include "solver/run_command.hpp"
 
 #include "solver/checkpoint.hpp"
+#include "solver/installation.hpp"
 #include "solver/simulation.hpp"
 
 #include <cmath>
@@ -13,7 +14,7 @@ namespace dgmpm {
 namespace {
 
 struct RunArguments {
-  std::string scene = std::string(DGMPM_SOURCE_DIR) + "/scenes/two_bar_impact.json";
+  std::string scene;  // default: the two-bar impact shipped with dgmpm (share/dgmpm/scenes)
   std::string out;
   bool json = false;
   bool overwrite = false;
@@ -86,8 +87,13 @@ int run(const RunArguments& args) {
     if (!args.checkpoint_every.empty()) parse_checkpoint_every(args.checkpoint_every, options);
     options.checkpoint_keep = args.checkpoint_keep;
     std::string scene_path = args.scene;
-    if (!args.restart.empty() && !args.scene_given)  // the scene the checkpoint was written by
-      scene_path = checkpoint::read(args.restart).header.value("scene_source", args.scene);
+    if (!args.restart.empty() && !args.scene_given) {  // the scene the checkpoint was written by
+      scene_path = checkpoint::read(args.restart).header.value("scene_source", std::string());
+    } else if (!args.scene_given) {
+      // The shipped default scene writes where the user is, not into the installed data.
+      scene_path = data_file("scenes/two_bar_impact.json");
+      if (args.out.empty()) options.output_directory = "out/two_bar_impact";
+    }
     const scene::Scene scene = scene::load_scene(scene_path);
     const auto owned = make_simulation(scene);
     SimulationBase& sim = *owned;

@@ -1004,7 +1004,12 @@ Scene load_scene(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path + ": cannot read the scene: read error");
-  return parse_scene_text(text.str(), path);
+  Scene scene = parse_scene_text(text.str(), path);
+  // A relative output directory belongs to the scene, wherever the run is started from.
+  auto& dir = scene.output.directory;
+  if (!dir.empty() && std::filesystem::path(dir).is_relative())
+    dir = (std::filesystem::path(path).parent_path() / dir).lexically_normal().string();
+  return scene;
 }
 
 Scene parse_scene_text(const std::string& raw, const std::string& path) {
