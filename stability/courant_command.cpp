@@ -175,7 +175,8 @@ void print_result(const CellLayout& layout, const AnalysisSetting& setting, Crit
       line << "; first unstable mode theta = " << std::setprecision(4) << r.critical_theta
            << " rad, wave to " << r.direction;
     else
-      line << "; limiting particle " << r.limiting_particle + 1 << " (" << std::defaultfloat
+      line << "; limiting particle " << r.limiting_particle
+           << " (numbered from 0; x = " << std::defaultfloat
            << describe_positions(
                   CellLayout{std::vector<double>(
                                  layout.positions.begin() + r.limiting_particle * layout.dim,
@@ -187,39 +188,66 @@ void print_result(const CellLayout& layout, const AnalysisSetting& setting, Crit
   out << line.str() << '\n';
 }
 
-void print_map(int n, const std::vector<double>& masses, TimeScheme scheme, Criterion criterion,
-               Model model, std::ostream& out) {
-  const std::vector<double> c = two_particle_courant_map(n, masses, scheme, criterion, model);
-  out << "x1,x2,courant\n" << std::setprecision(10);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      out << (i + 0.5) / n << ',' << (j + 0.5) / n << ',' << c[i * n + j] << '\n';
+// A map as CSV (a first line saying what was analysed, then a header) or as one JSON object:
+// the setting's keys, "columns" and "map" (one [coordinates..., C*] row per layout).
+void write_map(std::ostream& out, bool json, const AnalysisSetting& setting, Criterion criterion,
+               const std::vector<double>& masses, const std::vector<std::string>& columns,
+               const std::vector<std::vector<double>>& rows) {
+  if (json) {
+    nlohmann::json j{{"criterion", to_string(criterion)},
+                     {"time", to_string(setting.time)},
+                     {"model", to_string(setting.model)},
+                     {"dim", setting.dim},
+                     {"columns", columns},
+                     {"map", rows}};
+    if (setting.dim == 1) {
+      j["masses"] = masses.empty() ? std::vector<double>{1.0, 1.0} : masses;
+    } else {
+      j["flux"] = to_string(setting.flux);
+      j["aspect"] = setting.aspect;
+      if (setting.model == Model::elastic)
+        j["poisson"] = setting.poisson;
+      else
+        j["speeds"] = {setting.speed_x, setting.speed_y};
+    }
+    out << j.dump() << '\n';
+    return;
+  }
+  out << "# C* of " << (setting.dim == 1 ? "two particles" : "one particle per cell") << " at ("
+      << columns[0];
+  for (std::size_t k = 1; k + 1 < columns.size(); ++k) out << ", " << columns[k];
+  out << "): " << to_string(criterion) << ", " << setting_text(setting);
+  if (setting.dim == 1)
+    out << ", masses " << describe(masses.empty() ? std::vector<double>{1.0, 1.0} : masses);
+  out << '\n';
+  for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k];
+  out << '\n' << std::setprecision(10);
+  for (const auto& row : rows)
+    for (std::size_t k = 0; k < row.size(); ++k) out << row[k] << (k + 1 < row.size() ? ',' : '\n');
 }
 
-// 2D: C* of one particle at ((i + 1/2) / n, (j + 1/2) / n), as CSV with a header saying what.
+// 1D: C* of two particles at ((i + 1/2) / n, (j + 1/2) / n).
+void print_map(int n, const std::vector<double>& masses, const AnalysisSetting& setting,
+               Criterion criterion, bool json, std::ostream& out) {
+  const std::vector<double> c =
+      two_particle_courant_map(n, masses, setting.time, criterion, setting.model);
+  std::vector<std::vector<double>> rows;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) rows.push_back({(i + 0.5) / n, (j + 0.5) / n, c[i * n + j]});
+  write_map(out, json, setting, criterion, masses, {"x1", "x2", "courant"}, rows);
+}
+
+// 2D: C* of one particle at ((i + 1/2) / n, (j + 1/2) / n).
 void print_map_2d(int n, const AnalysisSetting& setting, Criterion criterion, bool json,
                   std::ostream& out) {
-  nlohmann::json rows = nlohmann::json::array();
-  if (!json)
-    out << "# C* of one particle per cell at (x, y): " << to_string(criterion) << ", "
-        << setting_text(setting) << "\nx,y,courant\n"
-        << std::setprecision(10);
+  std::vector<std::vector<double>> rows;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const double x = (i + 0.5) / n, y = (j + 0.5) / n;
-      const double c = admissible_courant(CellLayout{{x, y}, {}, 2}, setting, criterion).courant;
-      if (json)
-        rows.push_back({x, y, c});
-      else
-        out << x << ',' << y << ',' << c << '\n';
+      rows.push_back(
+          {x, y, admissible_courant(CellLayout{{x, y}, {}, 2}, setting, criterion).courant});
     }
-  if (json)
-    out << nlohmann::json{{"criterion", to_string(criterion)},
-                          {"setting", setting_text(setting)},
-                          {"columns", {"x", "y", "courant"}},
-                          {"map", rows}}
-               .dump()
-        << '\n';
+  write_map(out, json, setting, criterion, {}, {"x", "y", "courant"}, rows);
 }
 
 // Refuses the options given that do not apply (names listed), saying why.
@@ -278,8 +306,7 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
     if (o.map > 0) {
       if (o.analysis != CourantAnalysis::all) return 0;
       if (o.dim == 1) {
-        if (o.json) throw std::invalid_argument("--json with --map needs --dim 2");
-        print_map(o.map, masses, setting.time, criterion, setting.model, out);
+        print_map(o.map, masses, setting, criterion, o.json, out);
       } else {
         refuse_given(o, {"--masses"}, "to a 2D --map (one particle per cell)");
         print_map_2d(o.map, setting, criterion, o.json, out);

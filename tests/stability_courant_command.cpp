@@ -72,6 +72,8 @@ BOOST_AUTO_TEST_CASE(two_particle_map_csv) {
   BOOST_TEST_REQUIRE(r.code == 0);
   std::istringstream lines(r.out);
   std::string line;
+  std::getline(lines, line);  // what was analysed
+  BOOST_TEST(line == "# C* of two particles at (x1, x2): monotone, euler, elastic, masses 1, 1");
   std::getline(lines, line);
   BOOST_TEST(line == "x1,x2,courant");
   int rows = 0;
@@ -86,6 +88,20 @@ BOOST_AUTO_TEST_CASE(two_particle_map_csv) {
   }
   BOOST_TEST(rows == 9);
   BOOST_TEST(std::abs(regular - 1.0) < 1e-6);  // two coincident particles act as one
+
+  // The same map as JSON: the same numbers, the setting named.
+  const Run j = run({"--map", "3", "--criterion", "monotone", "--json"});
+  BOOST_TEST_REQUIRE(j.code == 0);
+  const auto doc = nlohmann::json::parse(j.out);
+  BOOST_TEST(doc.at("criterion") == "monotone");
+  BOOST_TEST(doc.at("time") == "euler");
+  BOOST_TEST(doc.at("model") == "elastic");
+  BOOST_TEST((doc.at("columns") == nlohmann::json{"x1", "x2", "courant"}));
+  BOOST_TEST(doc.at("map").size() == 9u);
+  for (const auto& row : doc.at("map"))
+    if (std::abs(row[0].get<double>() - 0.5) < 1e-12 &&
+        std::abs(row[1].get<double>() - 0.5) < 1e-12)
+      BOOST_TEST(row[2].get<double>() == regular);
 }
 
 BOOST_AUTO_TEST_CASE(invalid_input_is_reported) {
@@ -174,7 +190,6 @@ BOOST_AUTO_TEST_CASE(options_that_do_not_apply_are_refused) {
        "the monotone criterion needs scalar waves"},
       {{"--dim", "2", "--positions", "0.5:0.5", "--poisson", "0.5"}, "is outside (-1, 0.5)"},
       {{"--dim", "2", "--map", "2", "--masses", "1"}, "--masses does not apply to a 2D --map"},
-      {{"--map", "2", "--json"}, "--json with --map needs --dim 2"},
       {{"--scene", scene, "--time", "rk2"}, "--time does not apply to --scene"},
       {{"--scene", scene, "--criterion", "monotone"}, "--criterion does not apply to --scene"},
       {{"--scene", scene, "--model", "advection"}, "--model does not apply to --scene"},
