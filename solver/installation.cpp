@@ -16,7 +16,8 @@ std::string data_directory() {
   if (const char* dir = std::getenv("DGMPM_DATA_DIR"); dir && *dir) return dir;
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) throw std::runtime_error("cannot find the running binary (/proc/self/exe): " + ec.message());
+  if (ec)
+    throw std::runtime_error("cannot find the running binary (/proc/self/exe): " + ec.message());
   return (exe.parent_path().parent_path() / "share" / "dgmpm").lexically_normal().string();
 }
 

@@ -61,14 +61,17 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
   if (scene.time.courant_auto)
     std::printf("automatic time step (%s, safety %g): %d layouts analysed\n",
                 scene::to_string(scene.time.criterion), scene.time.safety, s.layouts_analysed);
+  const char* unit = energy_unit(scene.dimension);
   if (s.energy_initial > 0)
-    std::printf("energy: initial %.12g J, final %.12g J, relative change %.3e\n", s.energy_initial,
-                s.energy_final, (s.energy_final - s.energy_initial) / s.energy_initial);
+    std::printf("energy (%s): initial %.12g, final %.12g, relative change %.3e\n", unit,
+                s.energy_initial, s.energy_final,
+                (s.energy_final - s.energy_initial) / s.energy_initial);
   else  // a body at rest: the loads' work below is the reference
-    std::printf("energy: initial %.12g J, final %.12g J\n", s.energy_initial, s.energy_final);
+    std::printf("energy (%s): initial %.12g, final %.12g\n", unit, s.energy_initial,
+                s.energy_final);
   if (s.boundary_work != 0)
-    std::printf("work of the boundary loads %.12g J; energy - work %.6g J\n", s.boundary_work,
-                s.energy_final - s.energy_initial - s.boundary_work);
+    std::printf("work of the boundary loads %.12g %s; energy - initial energy - work %.6g %s\n",
+                s.boundary_work, unit, s.energy_final - s.energy_initial - s.boundary_work, unit);
   if (s.stress_errors) {
     std::printf("relative error against the exact solution at t = %.9g s:\n", s.final_time);
     std::printf("  %-9s %12s %12s %12s\n", "field", "L1", "L2", "max");

@@ -275,10 +275,11 @@ void Simulation<Physics>::check_growth() {
   const int cell = problem_.grid.locate(p.position.col(worst), xi);
   std::ostringstream s;
   s << format_step(steps_, time_) << ": the run is unstable: energy " << std::setprecision(6) << e
-    << " J is " << e / reference << " times the initial energy plus the work of the loads ("
-    << reference << " J; time.blow_up_factor " << scene_.time.blow_up_factor
-    << "); largest on particle " << p.id[worst] << " (x = " << p.position.col(worst).transpose()
-    << ", cell " << cell << ", " << most << " J). Lower the Courant number (or raise "
+    << ' ' << energy_unit(dim) << " is " << e / reference
+    << " times the initial energy plus the work of the loads (" << reference
+    << " J; time.blow_up_factor " << scene_.time.blow_up_factor << "); largest on particle "
+    << p.id[worst] << " (x = " << p.position.col(worst).transpose() << ", cell " << cell << ", "
+    << most << ' ' << energy_unit(dim) << "). Lower the Courant number (or raise "
     << "time.blow_up_factor, or set time.blow_up_check false to run on)";
   throw std::runtime_error(s.str());
 }

@@ -186,6 +186,11 @@ using BarSimulation = Simulation<ElasticBar>;
 using BarTimeStepControl = TimeStepControl<ElasticBar>;
 using PlaneStrainSimulation = Simulation<PlaneStrain>;
 
+// Energies are per unit cross-section in 1D, per unit thickness in 2D.
+constexpr const char* energy_unit(int dim) {
+  return dim == 1 ? "J/m^2" : (dim == 2 ? "J/m" : "J");
+}
+
 // The run-time dispatch on the scene's dimension (and so its physics).
 std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene);
 
