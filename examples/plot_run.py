@@ -6,7 +6,7 @@ solution dashed when the scene has one. 2D runs: one field on the particles, eac
 square, at up to four output times (reports/plot_fields_2d.py draws them).
 
     python3 examples/plot_run.py out/two_bar_impact -o two_bar.png
-    python3 examples/plot_run.py out/plate_impact --field von_mises -o plate.png
+    python3 examples/plot_run.py out/plate_impact --field sigma_yy -o plate.png
 """
 import argparse
 import csv
@@ -57,7 +57,7 @@ def plot_1d(directory, listed, output):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("directory", help="the run's output directory")
-    p.add_argument("--field", default="sigma_xx", help="2D: the field to draw")
+    p.add_argument("--field", default="sigma_xx", help="2D: the particle CSV column to draw")
     p.add_argument("-o", "--output", required=True, help="the PNG to write")
     a = p.parse_args()
     listed = outputs(a.directory)
