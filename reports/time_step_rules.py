@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 4 comparison: DGMPM automatic time steps against the MPM rule dt = 0.5 dx/c and 0.9 dx/c on
+"""Comparison of DGMPM automatic time steps with the MPM rules dt = 0.5 dx/c and 0.9 dx/c on
 the founding scenes (steps, relative L2 and max stress error at the end, energy change, wall time).
 Run from the repo root after a build:
     python3 reports/time_step_rules.py   -> Markdown table on stdout"""
