@@ -40,6 +40,7 @@ const char* to_string(Problem p) {
 void apply_method(nlohmann::json& scene, const MethodSpec& m) {
   scene["method"] = m.method;
   if (!m.update.empty()) scene["update"] = m.update;
+  if (!m.flux.empty()) scene["flux"] = m.flux;
   nlohmann::json& t = scene["time"];
   t["integrator"] = m.integrator;
   if (m.courant_auto)
@@ -96,7 +97,7 @@ RunRow run_scene(const nlohmann::json& document, std::optional<double> energy_gr
   RunRow row;
   row.l2_error = row.max_error = row.energy_drift = nan;
   row.wall_seconds = std::numeric_limits<double>::infinity();
-  std::unique_ptr<BarSimulation> sim;  // outside the try: a failed run still tells its step
+  std::unique_ptr<SimulationBase> sim;  // outside the try: a failed run still tells its step
   try {
     const scene::Scene scene = scene::parse_scene(document, "report");
     row.cells = scene.grid.cells[0];
@@ -105,8 +106,7 @@ RunRow run_scene(const nlohmann::json& document, std::optional<double> energy_gr
     for (int repeat = 0; repeat < 5 && (repeat == 0 || spent < min_seconds); ++repeat) {
       // Set-up (operators, automatic time step analysis) is part of the cost of a run.
       const auto start = clock::now();
-      sim = std::make_unique<BarSimulation>(scene);
-      row.dt_min = row.dt_max = sim->stable_time_step();
+      sim = make_simulation(scene);
       const RunSummary s = sim->run();
       const double wall = std::chrono::duration<double>(clock::now() - start).count();
       spent += wall;

@@ -20,6 +20,7 @@ struct MethodSpec {
   int particles_per_cell = 1;
   bool courant_auto = false;
   double courant = 1.0;  // when not auto
+  std::string flux;      // 2D DGMPM: "dcu" or "ctu"
 };
 
 // The two problems of the accuracy study.

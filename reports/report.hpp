@@ -25,9 +25,11 @@ struct OrderFit {
 };
 
 struct ReportResult {
-  std::vector<RunRow> runs;      // accuracy study, both problems
-  std::vector<OrderFit> orders;  // one per problem and method
-  std::vector<RunRow> stiff;     // stiff and extreme cases
+  std::vector<RunRow> runs;            // accuracy study, both problems
+  std::vector<OrderFit> orders;        // one per problem and method
+  std::vector<RunRow> stiff;           // stiff and extreme cases
+  std::vector<RunRow> plane_waves;     // 2D accuracy study
+  std::vector<OrderFit> plane_orders;  // one per 2D method
   std::vector<std::string> files;
   int plot_status = -1;  // exit status of the plotting script (0: every PNG written)
   double wall_seconds = 0;

@@ -69,6 +69,7 @@ class SimulationBase {
   virtual RunSummary run(const RunOptions& options = {}) = 0;
   virtual int num_particles() const = 0;
   virtual int num_cells() const = 0;
+  virtual long steps() const = 0;  // taken so far
   // Continues from a checkpoint written by run(): the next run() ends bit for bit as the run that
   // wrote it would have. Throws scene::SceneError for a checkpoint of another scene or version.
   virtual void restore(const std::string& checkpoint) = 0;
@@ -93,7 +94,7 @@ class Simulation final : public SimulationBase {
   int num_particles() const override { return problem_.particles.size(); }
   int num_cells() const override { return problem_.grid.num_cells(); }
   double time() const { return time_; }
-  long steps() const { return steps_; }
+  long steps() const override { return steps_; }
 
   // Step length of the current configuration: from the scene's Courant number, or from the
   // stability analysis of the cells' layouts with "courant": "auto" (recomputed after moves).

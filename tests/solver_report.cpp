@@ -63,19 +63,39 @@ BOOST_AUTO_TEST_CASE(every_file_is_written_and_not_empty) {
 
 BOOST_AUTO_TEST_CASE(header_states_where_and_how) {
   const std::string& md = report().markdown;
-  for (const char* key : {"| commit |", "| build type |", "| CPU |", "| cores |", "| date |"})
+  for (const char* key : {"| dgmpm |", "| commit |", "| build type |", "| CPU |", "| cores |",
+                          "| threads |", "| load at the start |", "| date |"})
     BOOST_TEST(md.find(key) != std::string::npos, key);
 }
 
-BOOST_AUTO_TEST_CASE(dgmpm_courant_one_is_exact_on_the_two_bars) {
+// The automatic step is Courant 1 where C* = 1 (one particle per cell; RK2): exact transport.
+BOOST_AUTO_TEST_CASE(dgmpm_automatic_step_is_exact_on_the_two_bars_where_c_star_is_one) {
   int found = 0;
   for (const RunRow& r : report().result.runs)
-    if (r.problem == "two_bar" && r.label == "DGMPM Euler 1ppc C=1") {
+    if (r.problem == "two_bar" &&
+        (r.label == "DGMPM Euler 1ppc auto" || r.label == "DGMPM RK2 4ppc auto")) {
       ++found;
       BOOST_TEST(r.stable);
-      BOOST_TEST(r.l2_error < 1e-10, r.cells << " cells: " << r.l2_error);
+      BOOST_TEST(r.l2_error < 1e-10, r.label << ", " << r.cells << " cells: " << r.l2_error);
     }
-  BOOST_TEST(found >= 3);
+  BOOST_TEST(found >= 6);
+}
+
+// 2D: every plane-wave run is stable with an error that falls with the cell size, and the
+// stability section holds the known exact limits.
+BOOST_AUTO_TEST_CASE(two_dimensional_sections) {
+  const auto& res = report().result;
+  BOOST_TEST_REQUIRE(!res.plane_waves.empty());
+  for (const RunRow& r : res.plane_waves) {
+    BOOST_TEST(r.stable, r.label << ", " << r.cells << " cells: " << r.failure);
+    BOOST_TEST(r.l2_error < 1.0, r.label);
+  }
+  for (const OrderFit& f : res.plane_orders) BOOST_TEST(f.order > 0.5, f.label << ": " << f.order);
+  const std::string& md = report().markdown;
+  for (const char* s :
+       {"## 5. The 2D plate", "## 6. 2D plane waves", "## 7. 2D stability",
+        "| elastic | l2 | dcu | rk2 | 1.0000 |", "| elastic | l2 | ctu | euler | 1.0000 |"})
+    BOOST_TEST(md.find(s) != std::string::npos, s);
 }
 
 BOOST_AUTO_TEST_CASE(dgmpm_errors_decrease_under_refinement_on_the_smooth_pulse) {
