@@ -31,6 +31,6 @@ while IFS= read -r line; do
     tested=0
   fi
 done < "$source/README.md"
-[ "$blocks" -ge 2 ] || { echo "only $blocks tested README blocks found" >&2; exit 1; }
+[ "$blocks" -ge 3 ] || { echo "only $blocks tested README blocks found" >&2; exit 1; }
 ls "$work"/*.png >/dev/null
 echo "$blocks README blocks ran"
