@@ -133,14 +133,14 @@ def convergence(directory, runs, orders, problem):
         name = f"{label}: order {order:.2f}" if math.isfinite(order) else f"{label}: round-off"
         series.append((name, style(first), rs))
     error_axis(ax, series, "h")
-    # Reference slopes 1 and 2 through the finest grid's median error.
+    # Reference slopes 1 and 2 from the coarsest grid's median error down to the finest grid.
     sizes = sorted({float(r["h"]) for r in runs if r["problem"] == problem})
-    finest = [float(r["l2_error"]) for _, _, rs in series for r in rs
-              if float(r["h"]) == sizes[0] and float(r["l2_error"]) >= ROUNDOFF]
-    if finest:
-        e0 = sorted(finest)[len(finest) // 2]
+    coarsest = [float(r["l2_error"]) for _, _, rs in series for r in rs
+                if float(r["h"]) == sizes[-1] and float(r["l2_error"]) >= ROUNDOFF]
+    if coarsest:
+        e0 = sorted(coarsest)[len(coarsest) // 2]
         for order, ls in ((1, ":"), (2, "-.")):
-            ax.plot([sizes[0], sizes[-1]], [e0, e0 * (sizes[-1] / sizes[0]) ** order], color="black",
+            ax.plot([sizes[-1], sizes[0]], [e0, e0 * (sizes[0] / sizes[-1]) ** order], color="black",
                     linestyle=ls, linewidth=1.0, label=f"reference slope {order}")
     # Grids span a decade or two: label each cell size used, not just the powers of ten.
     ax.xaxis.set_major_locator(FixedLocator(sizes))
