@@ -4,6 +4,7 @@
 #include "bench/solver_bench.hpp"
 
 #include <iostream>
+#include <omp.h>
 #include <memory>
 
 namespace dgmpm::bench {
@@ -13,6 +14,7 @@ struct BenchArguments {
   std::vector<int> particles{100000, 1000000};
   double seconds = 2.0;
   std::vector<std::string> what{"solver", "courant"};
+  int threads = 0;
 };
 }  // namespace
 
@@ -31,7 +33,12 @@ void add_bench_command(CLI::App& app) {
                   "--particles 10000,100000,1000000), courant-2d (2D query costs, 3 runs each)")
       ->delimiter(',')
       ->check(CLI::IsMember({"solver", "courant", "plate", "courant-2d"}));
+  cmd->add_option("--threads", args->threads,
+                  "OpenMP threads (default: OMP_NUM_THREADS, else the cores); the solver cases "
+                  "say \"one core\" only with 1")
+      ->check(CLI::Range(1, 1024));
   cmd->callback([args] {
+    if (args->threads > 0) omp_set_num_threads(args->threads);
     for (const auto& w : args->what) {
       if (w == "solver") run_solver_benchmark(std::cout, args->particles, args->seconds);
       if (w == "courant") run_courant_benchmark(std::cout);

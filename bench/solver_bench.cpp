@@ -10,6 +10,7 @@
 #include <dgmpm/discretisation.hpp>
 #include <iomanip>
 #include <malloc.h>
+#include <omp.h>
 #include <nlohmann/json.hpp>
 
 namespace dgmpm::bench {
@@ -132,7 +133,9 @@ void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_co
                         {"... same, 2 ppc", "dgmpm", "euler", true, true, 2},
                         {"mpm-usl flip fixed", "mpm-usl", "euler", false, false}};
   std::vector<AutoRun> auto_runs;
-  out << "solver throughput (one core, one particle per cell unless said, periodic bar)\n";
+  out << "solver throughput (" << omp_get_max_threads()
+      << " thread(s) for grids of 4096 cells or more; one particle per cell unless said, "
+         "periodic bar)\n";
   out << std::left << std::setw(26) << "case" << std::right << std::setw(12) << "particles"
       << std::setw(22) << "particle-steps/s" << '\n';
   for (const Case& c : cases)
@@ -184,7 +187,9 @@ double heap_bytes() {
 
 void run_plate_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
                          double seconds) {
-  out << "2D plate throughput (one core, DGMPM, Courant 0.5) and heap bytes per particle\n";
+  out << "2D plate throughput (" << omp_get_max_threads()
+      << " thread(s) for grids of 4096 cells or more; DGMPM, Courant 0.5) and heap bytes per "
+         "particle\n";
   out << std::left << std::setw(6) << "flux" << std::setw(7) << "time" << std::setw(5) << "ppc"
       << std::right << std::setw(12) << "particles" << std::setw(20) << "particle-steps/s"
       << std::setw(16) << "bytes/particle" << '\n';

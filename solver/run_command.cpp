@@ -5,6 +5,7 @@
 #include "solver/simulation.hpp"
 
 #include <cmath>
+#include <omp.h>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -22,6 +23,7 @@ struct RunArguments {
   std::string checkpoint_every;  // N (steps) or Ts (simulated seconds)
   int checkpoint_keep = 0;
   std::string restart;
+  int threads = 0;  // 0: OpenMP's default (OMP_NUM_THREADS, else the cores)
 };
 
 // "--checkpoint-every": N steps, or T simulated seconds written "Ts" (e.g. 2e-4s).
@@ -86,6 +88,7 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
 
 int run(const RunArguments& args) {
   try {
+    if (args.threads > 0) omp_set_num_threads(args.threads);
     RunOptions options;
     if (!args.checkpoint_every.empty()) parse_checkpoint_every(args.checkpoint_every, options);
     options.checkpoint_keep = args.checkpoint_keep;
@@ -138,6 +141,10 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--checkpoint-keep", args->checkpoint_keep,
                   "Keep only the newest K checkpoints (default: all)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", args->threads,
+                  "Threads for the step on large grids and for the stability analysis (default: "
+                  "OMP_NUM_THREADS, else the cores); results do not depend on it")
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("--restart", args->restart,
                   "Continue from a checkpoint (the scene defaults to the one that wrote it)")
       ->check(CLI::ExistingFile);

@@ -41,6 +41,8 @@ class DGOperator {
   static constexpr int npc = 1 << dim;
   static constexpr int face_nodes = npc / 2;
   static constexpr int ncomp = Physics::n_comp;
+  // Grids from this many cells step on threads (below, a parallel region costs more than it saves).
+  static constexpr int kThreadedCells = 4096;
   using State = typename Physics::State;
   using Material = typename Physics::Material;
   using NodalField = Eigen::Matrix<double, ncomp, Eigen::Dynamic>;
@@ -69,8 +71,15 @@ class DGOperator {
   int num_nodes() const { return grid_.num_nodes(); }
   int num_faces(int axis) const { return static_cast<int>(face_cells_[axis].size()); }
 
+  // The per-cell loops below run on OpenMP threads on large grids. Each writes only its own
+  // cell's nodes (broken shape functions) or particles, and a face only its two cells' nodes on
+  // its side, each node receiving at most one face contribution per axis, in axis order: the
+  // results do not depend on the number of threads.
+  bool threaded() const { return disc_.num_cells() >= kThreadedCells; }
+
   void project(const ParticleField& qp, const Eigen::VectorXd& mass, NodalField& qn) const {
     qn.setZero(ncomp, num_nodes());
+#pragma omp parallel for schedule(static) if (threaded())
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
       auto block = qn.template middleCols<npc>(c * npc);
@@ -81,9 +90,10 @@ class DGOperator {
   // dt is read by CTU only (its transverse corrections scale with dt / h).
   void residual(const NodalField& qn, double t, double dt, NodalField& r) const {
     r.setZero(ncomp, num_nodes());
-    Eigen::Matrix<double, ncomp, npc> flux;
+#pragma omp parallel for schedule(static) if (threaded())
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
+      Eigen::Matrix<double, ncomp, npc> flux;
       const auto& mat = disc_.cell_material(c);
       auto q = qn.template middleCols<npc>(c * npc);
       auto rc = r.template middleCols<npc>(c * npc);
@@ -95,11 +105,13 @@ class DGOperator {
     if (scheme_ == FluxScheme::ctu) {
       if constexpr (dim > 1) ctu_fluxes(qn, t, dt, r);
     } else {
-      for (int l = 0; l < dim; ++l)
+      for (int l = 0; l < dim; ++l) {
+#pragma omp parallel for schedule(static) if (threaded())
         for (int f = 0; f < num_faces(l); ++f) {
           State star;
           if (face_star(l, f, qn, t, star)) distribute(l, f, star, r);
         }
+      }
     }
   }
 
@@ -111,6 +123,7 @@ class DGOperator {
         const int s = disc_.node_source(i);
         if (s >= 0 && s != i) r.col(s) += r.col(i);
       }
+#pragma omp parallel for schedule(static) if (threaded())
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
       for (int a = 0; a < npc; ++a) {
@@ -122,6 +135,7 @@ class DGOperator {
   }
 
   void interpolate(const NodalField& qn, ParticleField& qp) const {
+#pragma omp parallel for schedule(static) if (threaded())
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
       const auto block = qn.template middleCols<npc>(c * npc);

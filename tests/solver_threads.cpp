@@ -1,0 +1,110 @@
+// The step runs on OpenMP threads on large grids: one and two threads give the same particle
+// states bit for bit (1D and 2D, Euler and RK2, DCU and CTU, boundaries, void cells, two
+// materials, moving particles), and the threaded path is the one taken.
+#define BOOST_TEST_MODULE solver_threads
+#include <boost/test/unit_test.hpp>
+
+#include "solver/scene.hpp"
+#include "solver/simulation.hpp"
+
+#include <nlohmann/json.hpp>
+#include <omp.h>
+
+#include <string>
+
+using namespace dgmpm;
+using nlohmann::json;
+
+namespace {
+
+json bar(const std::string& integrator, bool move) {
+  // 6000 cells, the bars covering part of the grid (void cells at both ends), two materials.
+  return {{"dimension", 1},
+          {"grid", {{"origin", {-0.1}}, {"cell_size", {1e-3}}, {"cells", {6000}}}},
+          {"materials",
+           {{"steel", {{"young", 2e11}, {"density", 7800}}},
+            {"soft", {{"young", 2e9}, {"density", 1000}}}}},
+          {"bodies",
+           {{{"material", "steel"},
+             {"box", {{"min", {0.0}}, {"max", {3.0}}}},
+             {"velocity", {10.0}},
+             {"particles_per_cell", 2}},
+            {{"material", "soft"},
+             {"box", {{"min", {3.0}}, {"max", {5.5}}}},
+             {"velocity", {-10.0}},
+             {"particles_per_cell", 1}}}},
+          {"boundaries",
+           {{"xmin", {{"type", "traction"}, {"value", {{0.0, 0.0}, {1e-4, -1e8}, {1.0, -1e8}}}}},
+            {"xmax", {{"type", "free"}}}}},
+          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}},
+          {"particles_move", move}};
+}
+
+json plate(const std::string& flux, const std::string& integrator, bool move) {
+  // 80 x 60 cells, the plate covering part of them, a soft inclusion, a loaded segment.
+  return {{"dimension", 2},
+          {"flux", flux},
+          {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {0.05, 0.05}}, {"cells", {80, 60}}}},
+          {"materials",
+           {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}},
+            {"soft", {{"young", 2e10}, {"poisson", 0.25}, {"density", 2000}}}}},
+          {"bodies",
+           {{{"material", "steel"},
+             {"box", {{"min", {0.0, 0.0}}, {"max", {3.5, 2.5}}}},
+             {"velocity", {1.0, -2.0}},
+             {"particles_per_cell", {1, 1}}},
+            {{"material", "soft"},
+             {"box", {{"min", {3.5, 0.0}}, {"max", {3.9, 2.5}}}},
+             {"particles_per_cell", {1, 1}}}}},
+          {"boundaries",
+           {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 0.0}}, {"range", {0.0, 1.0}}}}},
+            {"ymin", {{"type", "roller"}}}}},
+          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}},
+          {"particles_move", move}};
+}
+
+// Particle states and positions after `steps` steps on `threads` threads.
+template <class Physics>
+Eigen::MatrixXd run(const json& doc, int threads, int steps) {
+  omp_set_num_threads(threads);
+  Simulation<Physics> sim(scene::parse_scene(doc, "threads"));
+  const double dt = sim.stable_time_step();
+  for (int k = 0; k < steps; ++k) sim.step(dt);
+  const auto& p = sim.particles();
+  Eigen::MatrixXd out(p.state.rows() + p.position.rows(), p.size());
+  out << p.state, p.position;
+  return out;
+}
+
+template <class Physics>
+void same_on_one_and_two_threads(const json& doc, const std::string& what) {
+  const Eigen::MatrixXd one = run<Physics>(doc, 1, 12), two = run<Physics>(doc, 2, 12);
+  BOOST_TEST_REQUIRE(one.allFinite());
+  BOOST_TEST(((one.array() != 0).count() > 0), what << ": something happens");
+  BOOST_TEST(((one.array() == two.array()).all()),
+             what << ": bit for bit, largest difference " << (one - two).cwiseAbs().maxCoeff());
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_threaded_path_is_taken_on_these_grids) {
+  const auto sim = Simulation<ElasticBar>(scene::parse_scene(bar("euler", false), "threads"));
+  BOOST_TEST(sim.problem().grid.num_cells() >= DGOperator<ElasticBar>::kThreadedCells);
+  BOOST_TEST(80 * 60 >= DGOperator<PlaneStrain>::kThreadedCells);
+  BOOST_TEST(omp_get_num_procs() >= 1);
+}
+
+BOOST_AUTO_TEST_CASE(one_dimension) {
+  for (const char* integrator : {"euler", "rk2"})
+    for (bool move : {false, true})
+      same_on_one_and_two_threads<ElasticBar>(
+          bar(integrator, move), std::string("1D ") + integrator + (move ? " moving" : ""));
+}
+
+BOOST_AUTO_TEST_CASE(two_dimensions) {
+  for (const char* flux : {"dcu", "ctu"})
+    for (const char* integrator : {"euler", "rk2"})
+      same_on_one_and_two_threads<PlaneStrain>(plate(flux, integrator, false),
+                                               std::string("2D ") + flux + " " + integrator);
+  same_on_one_and_two_threads<PlaneStrain>(plate("dcu", "rk2", true), "2D dcu rk2 moving");
+}
