@@ -4,8 +4,8 @@
 #include "bench/solver_bench.hpp"
 
 #include <iostream>
-#include <omp.h>
 #include <memory>
+#include <omp.h>
 
 namespace dgmpm::bench {
 

@@ -10,8 +10,8 @@
 #include <dgmpm/discretisation.hpp>
 #include <iomanip>
 #include <malloc.h>
-#include <omp.h>
 #include <nlohmann/json.hpp>
+#include <omp.h>
 
 namespace dgmpm::bench {
 

@@ -5,10 +5,10 @@
 #include "solver/simulation.hpp"
 
 #include <cmath>
-#include <omp.h>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <omp.h>
 
 namespace dgmpm {
 

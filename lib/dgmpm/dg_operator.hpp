@@ -174,7 +174,9 @@ class DGOperator {
   };
   using Table = TimeTable<dim>;
 
-  double edge_length(int l) const { return face_weight_[l] * face_nodes; }
+  double edge_length(int l) const {
+    return face_weight_[l] * face_nodes;
+  }
 
   // Cell c's nodal states from its particles (block: its npc columns, set here).
   template <class Block>
@@ -309,7 +311,9 @@ class DGOperator {
     return side ? Physics::riemann(l, q, mat, g, mat) : Physics::riemann(l, g, mat, q, mat);
   }
 
-  bool occupied(int c) const { return c >= 0 && disc_.occupied(c); }
+  bool occupied(int c) const {
+    return c >= 0 && disc_.occupied(c);
+  }
 
   // Star state of face f along l; false when neither side is occupied.
   bool face_star(int l, int f, const NodalField& qn, double t, State& star) const {
