@@ -816,7 +816,8 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
     md << "| build type | " << env.build_type << " |\n";
     md << "| CPU | " << env.cpu << " |\n";
     md << "| cores | " << env.cores << " |\n";
-    md << "| threads | " << omp_get_max_threads() << " (OpenMP, the 2D stability analysis) |\n";
+    md << "| threads | " << omp_get_max_threads()
+       << " (OpenMP: the 2D stability analysis, and steps on grids of 4096 cells or more) |\n";
     md << "| load at the start | " << env.load << " (1, 5, 15 min averages, /proc/loadavg) |\n";
     md << "| date | " << env.date << " |\n";
     md << "| report time | " << fixed(result.wall_seconds, 1) << " s (accuracy runs "
