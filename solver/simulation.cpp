@@ -659,6 +659,18 @@ template <class M>
 void get(checkpoint::PayloadReader& r, M& m) {
   r.bytes(m.data(), sizeof(*m.data()) * static_cast<std::size_t>(m.size()));
 }
+// The particle arrays of a checkpoint, in their order in the file (one list for writing and
+// reading).
+template <class ParticleSet, class Positions, class Visit>
+void checkpoint_arrays(ParticleSet& p, Positions& reference, Visit&& visit) {
+  visit(p.position);
+  visit(p.mass);
+  visit(p.volume);
+  visit(p.state);
+  visit(p.material);
+  visit(p.id);
+  visit(reference);
+}
 }  // namespace
 
 template <class Physics>
@@ -700,13 +712,7 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
         {"history_hash", d.history_hash},
         {"checkpoint_step", d.checkpoint_step}}}};
   checkpoint::PayloadWriter w(file.payload);
-  put(w, p.position);
-  put(w, p.mass);
-  put(w, p.volume);
-  put(w, p.state);
-  put(w, p.material);
-  put(w, p.id);
-  put(w, reference_position_);
+  checkpoint_arrays(p, reference_position_, [&](const auto& a) { put(w, a); });
   checkpoint::write(path, file);
 }
 
@@ -727,13 +733,7 @@ void Simulation<Physics>::restore(const std::string& path) {
     restored.resize(p.size());
     Eigen::Matrix<double, dim, Eigen::Dynamic> reference(dim, p.size());
     checkpoint::PayloadReader r(path, file.payload);
-    get(r, restored.position);
-    get(r, restored.mass);
-    get(r, restored.volume);
-    get(r, restored.state);
-    get(r, restored.material);
-    get(r, restored.id);
-    get(r, reference);
+    checkpoint_arrays(restored, reference, [&](auto& a) { get(r, a); });
     r.expect_end();
     for (int m : restored.material)
       if (m < 0 || m >= static_cast<int>(problem_.materials.size()))

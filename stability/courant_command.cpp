@@ -117,6 +117,16 @@ std::string setting_text(const AnalysisSetting& s) {
   return t.str();
 }
 
+// The 2D setting's keys of a JSON answer (flux, aspect, and poisson or speeds).
+void add_2d_setting(nlohmann::json& j, const AnalysisSetting& setting) {
+  j["flux"] = to_string(setting.flux);
+  j["aspect"] = setting.aspect;
+  if (setting.model == Model::elastic)
+    j["poisson"] = setting.poisson;
+  else
+    j["speeds"] = {setting.speed_x, setting.speed_y};
+}
+
 void print_result(const CellLayout& layout, const AnalysisSetting& setting, Criterion criterion,
                   const CourantResult& r, bool json, std::ostream& out) {
   if (json) {
@@ -136,14 +146,7 @@ void print_result(const CellLayout& layout, const AnalysisSetting& setting, Crit
                      {"dim", setting.dim},
                      {"positions", positions},
                      {"masses", masses_or_equal(layout)}};
-    if (setting.dim > 1) {
-      j["flux"] = to_string(setting.flux);
-      j["aspect"] = setting.aspect;
-      if (setting.model == Model::elastic)
-        j["poisson"] = setting.poisson;
-      else
-        j["speeds"] = {setting.speed_x, setting.speed_y};
-    }
+    if (setting.dim > 1) add_2d_setting(j, setting);
     if (r.bounded) {
       j["failing_courant"] = r.failing_courant;
       j["failing_direction"] = r.direction;
@@ -200,16 +203,10 @@ void write_map(std::ostream& out, bool json, const AnalysisSetting& setting, Cri
                      {"dim", setting.dim},
                      {"columns", columns},
                      {"map", rows}};
-    if (setting.dim == 1) {
+    if (setting.dim == 1)
       j["masses"] = masses.empty() ? std::vector<double>{1.0, 1.0} : masses;
-    } else {
-      j["flux"] = to_string(setting.flux);
-      j["aspect"] = setting.aspect;
-      if (setting.model == Model::elastic)
-        j["poisson"] = setting.poisson;
-      else
-        j["speeds"] = {setting.speed_x, setting.speed_y};
-    }
+    else
+      add_2d_setting(j, setting);
     out << j.dump() << '\n';
     return;
   }
