@@ -2,10 +2,10 @@
 
 #include "bench/courant_bench.hpp"
 #include "bench/solver_bench.hpp"
+#include "solver/run_command.hpp"
 
 #include <iostream>
 #include <memory>
-#include <omp.h>
 
 namespace dgmpm::bench {
 
@@ -33,12 +33,9 @@ void add_bench_command(CLI::App& app) {
                   "--particles 10000,100000,1000000), courant-2d (2D query costs, 3 runs each)")
       ->delimiter(',')
       ->check(CLI::IsMember({"solver", "courant", "plate", "courant-2d"}));
-  cmd->add_option("--threads", args->threads,
-                  "OpenMP threads (default: OMP_NUM_THREADS, else the cores); the solver cases "
-                  "say \"one core\" only with 1")
-      ->check(CLI::Range(1, 1024));
+  add_threads_option(*cmd, args->threads);
   cmd->callback([args] {
-    if (args->threads > 0) omp_set_num_threads(args->threads);
+    apply_threads(args->threads);
     for (const auto& w : args->what) {
       if (w == "solver") run_solver_benchmark(std::cout, args->particles, args->seconds);
       if (w == "courant") run_courant_benchmark(std::cout);

@@ -707,17 +707,24 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
       }
   }
 
-  // CSV files.
-  write_file(dir, "runs.csv", result.files, [&](std::ostream& out) {
-    out << run_header;
-    for (const RunRow& r : result.runs) write_run(out, r, *by_label.at(r.label));
-  });
-  write_file(dir, "orders.csv", result.files, [&](std::ostream& out) {
-    out << "problem,label,order,intercept,points,note\n";
-    for (const OrderFit& f : result.orders)
-      out << f.problem << ',' << f.label << ',' << num(f.order) << ',' << num(f.intercept) << ','
-          << f.points << ',' << f.note << '\n';
-  });
+  // CSV files. Runs and fitted orders have one layout for the 1D and the 2D studies.
+  const auto write_runs = [&](const char* name, const std::vector<RunRow>& rows,
+                              const std::map<std::string, const Method*>& methods_by_label) {
+    write_file(dir, name, result.files, [&](std::ostream& out) {
+      out << run_header;
+      for (const RunRow& r : rows) write_run(out, r, *methods_by_label.at(r.label));
+    });
+  };
+  const auto write_orders = [&](const char* name, const std::vector<OrderFit>& fits) {
+    write_file(dir, name, result.files, [&](std::ostream& out) {
+      out << "problem,label,order,intercept,points,note\n";
+      for (const OrderFit& f : fits)
+        out << f.problem << ',' << f.label << ',' << num(f.order) << ',' << num(f.intercept) << ','
+            << f.points << ',' << f.note << '\n';
+    });
+  };
+  write_runs("runs.csv", result.runs, by_label);
+  write_orders("orders.csv", result.orders);
   write_file(dir, "best_per_budget.csv", result.files, [&](std::ostream& out) {
     out << "problem,budget_seconds,label,cells,wall_seconds,l2_error\n";
     for (const Best& b : best)
@@ -754,16 +761,8 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
     }
   });
 
-  write_file(dir, "plane_waves.csv", result.files, [&](std::ostream& out) {
-    out << run_header;
-    for (const RunRow& r : result.plane_waves) write_run(out, r, *by_label_2d.at(r.label));
-  });
-  write_file(dir, "plane_wave_orders.csv", result.files, [&](std::ostream& out) {
-    out << "problem,label,order,intercept,points,note\n";
-    for (const OrderFit& f : result.plane_orders)
-      out << f.problem << ',' << f.label << ',' << num(f.order) << ',' << num(f.intercept) << ','
-          << f.points << ',' << f.note << '\n';
-  });
+  write_runs("plane_waves.csv", result.plane_waves, by_label_2d);
+  write_orders("plane_wave_orders.csv", result.plane_orders);
   write_file(dir, "stability_map_2d.csv", result.files, [&](std::ostream& out) {
     out << "setting,x,y,courant\n";
     const int n = stab_2d.map_size;

@@ -88,7 +88,7 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
 
 int run(const RunArguments& args) {
   try {
-    if (args.threads > 0) omp_set_num_threads(args.threads);
+    apply_threads(args.threads);
     RunOptions options;
     if (!args.checkpoint_every.empty()) parse_checkpoint_every(args.checkpoint_every, options);
     options.checkpoint_keep = args.checkpoint_keep;
@@ -126,6 +126,18 @@ int run(const RunArguments& args) {
 
 }  // namespace
 
+CLI::Option* add_threads_option(CLI::App& cmd, int& threads) {
+  return cmd
+      .add_option("--threads", threads,
+                  "Threads for the step on large grids and for the stability analysis (default: "
+                  "OMP_NUM_THREADS, else the cores); results do not depend on it")
+      ->check(CLI::Range(1, 1024));
+}
+
+void apply_threads(int threads) {
+  if (threads > 0) omp_set_num_threads(threads);
+}
+
 void add_run_command(CLI::App& app) {
   auto args = std::make_shared<RunArguments>();
   CLI::App* cmd = app.add_subcommand("run", "Run a scene: DGMPM or MPM time loop, outputs, errors");
@@ -141,10 +153,7 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--checkpoint-keep", args->checkpoint_keep,
                   "Keep only the newest K checkpoints (default: all)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--threads", args->threads,
-                  "Threads for the step on large grids and for the stability analysis (default: "
-                  "OMP_NUM_THREADS, else the cores); results do not depend on it")
-      ->check(CLI::Range(1, 1024));
+  add_threads_option(*cmd, args->threads);
   cmd->add_option("--restart", args->restart,
                   "Continue from a checkpoint (the scene defaults to the one that wrote it)")
       ->check(CLI::ExistingFile);
