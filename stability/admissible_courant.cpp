@@ -3,10 +3,92 @@
 #include "stability/criteria.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
 namespace dgmpm::stability {
+namespace {
+
+// The 2D L2 search. A full margin (kFine in criteria.cpp) costs about a thousand eigenproblems,
+// so C is scanned with the coarse margin; the probe that fails first is sharpened and its own
+// transition refined, which gives a candidate C*; one full margin at the candidate decides. When
+// it fails, what failed joins the probes and the refinement starts again below the candidate.
+// `critical` receives the probe that fails first just above C*.
+SearchResult search_torus(L2Criterion& l2, const SearchOptions& options, L2Margin& critical) {
+  const double tolerance = options.margin_tolerance, step = options.scan_step;
+  int evaluations = 0;
+  double lo = 0.0, hi = 0.0;
+  int scanned = 0;  // lo = scanned * step
+  std::vector<L2Margin> probes;
+  const int steps = static_cast<int>(std::ceil(options.max_courant / step - 1e-9));
+  for (int k = 1; k <= steps; ++k) {
+    const double c = std::min(k * step, options.max_courant);
+    const L2Margin m = l2.coarse_margin(c, tolerance);
+    ++evaluations;
+    if (m.value > tolerance) {
+      hi = c;
+      probes.push_back(m);
+      break;
+    }
+    lo = c, scanned = k;
+  }
+  if (probes.empty()) {
+    const L2Margin m = l2.margin(options.max_courant, tolerance);
+    ++evaluations;
+    if (m.value <= tolerance) {
+      SearchResult unbounded;
+      unbounded.courant = unbounded.failing_courant = unbounded.rounded_down = options.max_courant;
+      unbounded.bounded = false;
+      unbounded.evaluations = evaluations;
+      return unbounded;
+    }
+    hi = options.max_courant;
+    probes.push_back(m);
+  }
+  const auto local = [&](double c) {
+    double worst = -std::numeric_limits<double>::infinity();
+    for (const auto& p : probes) worst = std::max(worst, l2.probe_margin(c, p));
+    return worst;
+  };
+  for (int round = 0; round < 8; ++round) {
+    probes.back() = l2.sharpen(hi, probes.back());
+    // The probes' first transition: below lo if one of them already fails there.
+    while (scanned > 0 && local(lo) > tolerance) hi = lo, lo = --scanned * step;
+    SearchResult s = refine_admissible_courant(local, lo, hi, options);
+    evaluations += s.evaluations;
+    // Rounded up: the full margin must pass with a tenth of the tolerance there, else C* is the
+    // value rounded down, which must pass with the tolerance.
+    const bool rounded_up = s.courant > s.rounded_down;
+    L2Margin m = l2.margin(s.courant, rounded_up ? 0.1 * tolerance : tolerance);
+    ++evaluations;
+    if (rounded_up && m.value > 0.1 * tolerance && m.value <= tolerance) {
+      s.courant = s.rounded_down;
+      m = l2.margin(s.courant, tolerance);
+      ++evaluations;
+    }
+    if (m.value <= (s.courant > s.rounded_down ? 0.1 : 1.0) * tolerance) {
+      critical = probes.front();
+      double worst = -std::numeric_limits<double>::infinity();
+      for (const auto& p : probes)
+        if (const double v = l2.probe_margin(s.failing_courant, p); v > worst)
+          worst = v, critical = p;
+      s.evaluations = evaluations;
+      return s;
+    }
+    probes.push_back(m);
+    hi = s.courant;
+  }
+  // Not settled by a few probes: the full margin everywhere.
+  SearchResult s =
+      search_admissible_courant([&](double c) { return l2.margin(c, tolerance).value; }, options,
+                                [&](double c) { return l2.margin(c).value; });
+  critical = l2.margin(s.failing_courant);
+  s.evaluations += evaluations;
+  return s;
+}
+
+}  // namespace
 
 SearchOptions default_search_options(Criterion criterion) {
   SearchOptions o;
@@ -38,10 +120,15 @@ CourantResult admissible_courant(const OneStepMap& map, Criterion criterion,
       options.scan_step = std::max(options.scan_step, kL2ScanStep2D);
     }
     const double tolerance = options.margin_tolerance;
-    s = search_admissible_courant([&](double c) { return l2.margin(c, tolerance).value; }, options,
-                                  [&](double c) { return l2.margin(c).value; });
+    L2Margin m;
+    if (map.setting.dim > 1) {
+      s = search_torus(l2, options, m);
+    } else {
+      s = search_admissible_courant([&](double c) { return l2.margin(c, tolerance).value; },
+                                    options, [&](double c) { return l2.margin(c).value; });
+      if (s.bounded) m = l2.margin(s.failing_courant);
+    }
     if (s.bounded) {
-      const L2Margin m = l2.margin(s.failing_courant);
       r.direction = map.families[m.family].direction;
       r.critical_theta = m.theta;
       r.critical_theta_y = m.theta_y;

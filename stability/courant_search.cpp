@@ -28,10 +28,11 @@ double shifted_margin(double courant, void* data) {
 // the limit that the limit is the tolerance's (a weak instability at every C): lo is kept. The
 // result is rounded to `digits` significant digits: down, or up only to a value that passes with
 // a tenth of the tolerance (a neutral limit, as at an exact Courant number 1, then comes back as
-// exactly 1).
+// exactly 1). `rounded_down` receives the value rounded down.
 double conservative_courant(double lo, double hi, double scanned,
                             const std::function<double(double)>& margin, double tolerance,
-                            int digits) {
+                            int digits, double& rounded_down) {
+  rounded_down = lo;
   if (!(lo > 0.0)) return lo;
   double c = lo;
   if (const double at_lo = margin(lo); at_lo > 0.0) {
@@ -40,12 +41,15 @@ double conservative_courant(double lo, double hi, double scanned,
     const double overshoot = 2.0 * at_lo * (probe - lo) / (at_probe - at_lo);
     if (at_probe > at_lo && overshoot <= 1e-5 * lo) c = std::max(scanned, lo - overshoot);
   }
+  rounded_down = c;
   if (digits <= 0) return c;
   // Divided by an exact power of ten, so that 0.9839554 prints as such.
   const double scale = std::pow(10.0, (digits - 1) - std::floor(std::log10(c)));
   const double nearest = std::round(c * scale) / scale;
-  if (nearest <= c || (nearest < hi && margin(nearest) <= 0.1 * tolerance)) return nearest;
-  return std::floor(c * scale) / scale;
+  rounded_down = std::floor(c * scale) / scale;
+  if (nearest <= c) return rounded_down = nearest;
+  if (nearest < hi && margin(nearest) <= 0.1 * tolerance) return nearest;
+  return rounded_down;
 }
 
 }  // namespace
@@ -72,11 +76,23 @@ SearchResult search_admissible_courant(const std::function<double(double)>& marg
     }
   }
   if (!found) {
-    result.courant = result.failing_courant = options.max_courant;
+    result.courant = result.failing_courant = result.rounded_down = options.max_courant;
     result.bounded = false;
     return result;
   }
+  SearchResult refined = refine_admissible_courant(margin, lo, hi, options, full_margin);
+  refined.evaluations += result.evaluations;
+  return refined;
+}
+
+SearchResult refine_admissible_courant(const std::function<double(double)>& margin, double lo,
+                                       double hi, const SearchOptions& options,
+                                       const std::function<double(double)>& full_margin) {
+  SearchResult result;
+  Shifted shifted{margin, options.margin_tolerance, result.evaluations};
   const double scanned = lo;
+  if (!(hi > lo && lo >= 0.0))
+    throw std::invalid_argument("refine_admissible_courant: needs 0 <= lo < hi");
   // Refine: Brent keeps a sign change in its bracket, not necessarily the first one when several
   // transitions hide between two scan points; both ends are checked, and the search goes on in
   // the part of the bracket that still starts passing and ends failing.
@@ -116,7 +132,7 @@ SearchResult search_admissible_courant(const std::function<double(double)>& marg
         ++result.evaluations;
         return full(c);
       },
-      options.margin_tolerance, options.significant_digits);
+      options.margin_tolerance, options.significant_digits, result.rounded_down);
   result.failing_courant = hi;
   return result;
 }

@@ -20,6 +20,9 @@ struct SearchResult {
   double courant = 0.0;  // C*: passes, as does every scanned C below it (rounded: SearchOptions)
   double failing_courant = 0.0;  // fails, within courant_tolerance above C*
   bool bounded = true;           // false: nothing failed up to max_courant (courant = max)
+  // C* rounded down to SearchOptions::significant_digits; courant is above it when it was rounded
+  // up (to a value that passes with a tenth of the tolerance).
+  double rounded_down = 0.0;
   int evaluations = 0;
 };
 
@@ -28,6 +31,13 @@ struct SearchResult {
 // full, used where its value matters (C* is made conservative from it: see courant_search.cpp).
 SearchResult search_admissible_courant(const std::function<double(double)>& margin,
                                        const SearchOptions& options,
+                                       const std::function<double(double)>& full_margin = {});
+
+// What search_admissible_courant does after its scan: lo (>= 0; 0 is taken to pass) passes, hi
+// fails; the first transition in between is refined and C* made conservative. (The 2D L2 search
+// scans with a cheap margin and refines with a few probes of the full one.)
+SearchResult refine_admissible_courant(const std::function<double(double)>& margin, double lo,
+                                       double hi, const SearchOptions& options,
                                        const std::function<double(double)>& full_margin = {});
 
 }  // namespace dgmpm::stability

@@ -12,7 +12,9 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <memory>
 #include <numbers>
+#include <numeric>
 #include <vector>
 
 namespace dgmpm::stability {
@@ -203,10 +205,10 @@ L2Margin family_margin(FamilySpectrum& spectrum, double courant) {
 
 // --- 2D ---------------------------------------------------------------------------------------
 // The symbol is even (rho(-theta) = rho(theta)), so the half torus theta_x in [0, pi],
-// theta_y in (-pi, pi] is scanned: kScan2D + 1 by 2 kScan2D points. The margin there is
+// theta_y in (-pi, pi] is scanned: K + 1 by 2 K points, spacing pi / K. The margin there is
 // (rho - 1) / s, s = 2 - cos theta_x - cos theta_y (|theta|^2 / 2 near 0). Below |theta| =
 // 2 kSmall2D the margin loses digits (rho - 1 ~ |theta|^2, eigenvalues of nearly coincident
-// modes carry errors near 1e-12), so along each of kRays2D directions it is replaced by its
+// modes carry errors near 1e-12), so along each of R directions it is replaced by its
 // quadratic model through the Richardson limit at 0 (from kSmall2D and 2 kSmall2D) and the value
 // at 2 kSmall2D, as in 1D. The largest local maxima of the scan are refined by a simplex.
 //
@@ -217,11 +219,20 @@ L2Margin family_margin(FamilySpectrum& spectrum, double courant) {
 // particle off the centre on both axes under RK2: a ~ 0.016 C^3 per radian). Where rho = 1 on a
 // line, its one-sided slope off the line, a, is a margin of its own (per radian, from kLine2D
 // and 2 kLine2D).
-constexpr int kScan2D = 16;
-constexpr int kRays2D = 16;
+//
+// The full sweep (kFine) decides; the search scans C with a coarse one (kCoarse) and refines
+// with a few probes (admissible_courant.cpp).
+struct TorusResolution {
+  int scan;             // K
+  int rays;             // R, even
+  bool slopes;          // the neutral lines' slopes
+  std::size_t refined;  // local maxima refined by a simplex
+};
+constexpr TorusResolution kFine{16, 16, true, 4};
+constexpr TorusResolution kCoarse{3, 4, false, 0};
 constexpr double kSmall2D = 0.05;
-constexpr std::size_t kRefined2D = 4;
 constexpr double kLine2D = 1e-3;
+constexpr double kNone = -std::numeric_limits<double>::infinity();
 
 struct TorusProfile {
   const FamilySpectrum& spectrum;
@@ -247,6 +258,110 @@ struct TorusProfile {
     const double t = r / (2.0 * kSmall2D);
     return limit + (far - limit) * t * t;
   }
+  // Slope of rho off a neutral line at (tx, ty), toward (ux, uy) (a unit axis vector); f0 =
+  // rho - 1 on the line. None where rho < 1 there.
+  double line_slope(double tx, double ty, int ux, int uy, double f0) const {
+    if (f0 < -1e-10) return kNone;
+    const double dx = ux * kLine2D, dy = uy * kLine2D;
+    const double f1 = spectrum.radius(tx + dx, ty + dy) - 1.0;
+    const double f2 = spectrum.radius(tx + 2 * dx, ty + 2 * dy) - 1.0;
+    return (4.0 * f1 - f2 - 3.0 * f0) / (2.0 * kLine2D);
+  }
+  double line_slope(double tx, double ty, int ux, int uy) const {
+    return line_slope(tx, ty, ux, uy, spectrum.radius(tx, ty) - 1.0);
+  }
+  double probe(const L2Margin& p) const {
+    switch (p.kind) {
+      case L2Probe::ray:
+        return ray(p.phi).first;
+      case L2Probe::line:
+        return line_slope(p.theta - p.line_x * kLine2D, p.theta_y - p.line_y * kLine2D, p.line_x,
+                          p.line_y);
+      case L2Probe::point:
+        break;
+    }
+    return (*this)(p.theta, p.theta_y);
+  }
+};
+
+int wrap(int a, int k) {  // into (-k, k]
+  return ((a + k - 1) % (2 * k) + 2 * k) % (2 * k) - (k - 1);
+}
+
+// The scan's points and rays, and which of them a symmetry of the symbol makes equal: rho is
+// evaluated once per class, at its representative.
+struct TorusGrid {
+  TorusResolution resolution;
+  TorusSymmetry symmetry;
+  int nx, ny;
+  double h;
+  std::vector<int> representative, unique;  // per point (i * ny + j); the representatives
+  std::vector<int> ray_representative, unique_rays;
+
+  TorusGrid(TorusResolution r, TorusSymmetry symmetry)
+      : resolution(r), symmetry(symmetry), nx(r.scan + 1), ny(2 * r.scan),
+        h(std::numbers::pi / r.scan) {
+    const int k = r.scan;
+    // Point (a, b) h (any integers) -> index in the half torus, by the symbol's evenness.
+    const auto index = [k, this](int a, int b) {
+      a = wrap(a, k), b = wrap(b, k);
+      if (a < 0) a = -a, b = wrap(-b, k);
+      return a * ny + b + k - 1;
+    };
+    const auto orbit_min = [&](int a, int b) {
+      std::vector<std::pair<int, int>> orbit{{a, b}};
+      for (std::size_t q = 0; q < orbit.size(); ++q) {
+        const auto [x, y] = orbit[q];
+        std::vector<std::pair<int, int>> images{{-x, -y}};
+        if (symmetry.mirror) images.push_back({-x, y});
+        if (symmetry.swap) images.push_back({y, x});
+        for (auto [u, v] : images) {
+          u = wrap(u, k), v = wrap(v, k);
+          if (std::find(orbit.begin(), orbit.end(), std::pair{u, v}) == orbit.end())
+            orbit.push_back({u, v});
+        }
+      }
+      int best = index(a, b);
+      for (const auto& [u, v] : orbit) best = std::min(best, index(u, v));
+      return best;
+    };
+    representative.resize(static_cast<std::size_t>(nx * ny));
+    for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < ny; ++j) {
+        const int rep = orbit_min(i, j - k + 1);
+        representative[static_cast<std::size_t>(i * ny + j)] = rep;
+        if (rep == i * ny + j) unique.push_back(rep);
+      }
+    // Rays: direction m pi / R, m = ray - R / 2 in [-R/2, R/2) (the half plane theta_x >= 0).
+    const int rays = r.rays;
+    const auto ray_index = [rays](int m) {
+      m = ((m + rays / 2) % (2 * rays) + 2 * rays) % (2 * rays) - rays / 2;  // [-R/2, 3R/2)
+      if (m >= rays / 2) m -= rays;                                          // the opposite one
+      return m + rays / 2;
+    };
+    ray_representative.resize(static_cast<std::size_t>(rays));
+    for (int q = 0; q < rays; ++q) {
+      std::vector<int> orbit{q - rays / 2};
+      for (std::size_t o = 0; o < orbit.size(); ++o) {
+        std::vector<int> images;
+        if (symmetry.mirror) images.push_back(rays - orbit[o]);
+        if (symmetry.swap) images.push_back(rays / 2 - orbit[o]);
+        for (int m : images)
+          if (std::none_of(orbit.begin(), orbit.end(),
+                           [&](int x) { return ray_index(x) == ray_index(m); }))
+            orbit.push_back(m);
+      }
+      int best = q;
+      for (int m : orbit) best = std::min(best, ray_index(m));
+      ray_representative[static_cast<std::size_t>(q)] = best;
+      if (best == q) unique_rays.push_back(q);
+    }
+  }
+  double theta_x(int i) const { return i * h; }
+  double theta_y(int j) const { return (j - resolution.scan + 1) * h; }
+  double phi(int ray) const {
+    return -0.5 * std::numbers::pi + std::numbers::pi * ray / resolution.rays;
+  }
 };
 
 double negated_torus(const gsl_vector* x, void* profile) {
@@ -265,13 +380,14 @@ void refine_torus_maximum(const TorusProfile& profile, double tx, double ty, dou
   if (gsl_multimin_fminimizer_set(m, &f, x, steps) == GSL_SUCCESS) {
     for (int it = 0; it < 80; ++it) {
       if (gsl_multimin_fminimizer_iterate(m) != GSL_SUCCESS) break;
-      if (gsl_multimin_test_size(gsl_multimin_fminimizer_size(m), 1e-6) == GSL_SUCCESS) break;
+      if (gsl_multimin_test_size(gsl_multimin_fminimizer_size(m), 1e-4) == GSL_SUCCESS) break;
     }
     const double value = -gsl_multimin_fminimizer_minimum(m);
     if (value > best.value) {
       best.value = value;
       best.theta = gsl_vector_get(m->x, 0);
       best.theta_y = gsl_vector_get(m->x, 1);
+      best.kind = L2Probe::point;
     }
   }
   gsl_multimin_fminimizer_free(m);
@@ -279,38 +395,44 @@ void refine_torus_maximum(const TorusProfile& profile, double tx, double ty, dou
   gsl_vector_free(x);
 }
 
-// stop_above: the caller only needs to know whether the margin exceeds it, so the point that
+// stop_above: the caller only needs to know whether the margin exceeds it, so the probe that
 // exceeded it last time (`hint`) is tried first, and refinement is skipped once the scan exceeds
 // it. Points are evaluated in parallel but combined in a fixed order: the result does not depend on
 // the number of threads.
-L2Margin torus_margin(FamilySpectrum& spectrum, double courant, double stop_above,
-                      std::pair<double, double>& hint) {
-  spectrum.set_courant(courant);
+L2Margin torus_margin(const FamilySpectrum& spectrum, const TorusGrid& grid, double stop_above,
+                      L2Margin& hint) {
   const TorusProfile profile{spectrum};
-  if (stop_above < std::numeric_limits<double>::infinity() && (hint.first || hint.second)) {
-    const double v = profile(hint.first, hint.second);
-    if (v > stop_above) return {v, std::abs(hint.first), hint.second, 0};
+  if (stop_above < std::numeric_limits<double>::infinity() && hint.value > kNone) {
+    L2Margin m = hint;
+    m.value = profile.probe(hint);
+    if (m.value > stop_above) return m;
   }
-  L2Margin best{-std::numeric_limits<double>::infinity(), 0.0, 0.0, 0};
+  L2Margin best{kNone, 0.0, 0.0, 0};
   // Long waves: the limit at 0 along each direction of the half plane.
-  double ray_limits[kRays2D];
+  const auto& rays = grid.unique_rays;
+  std::vector<double> ray_limits(static_cast<std::size_t>(grid.resolution.rays));
 #pragma omp parallel for schedule(static)
-  for (int k = 0; k < kRays2D; ++k)
-    ray_limits[k] = profile.ray(-0.5 * std::numbers::pi + std::numbers::pi * k / kRays2D).first;
-  for (int k = 0; k < kRays2D; ++k)
-    if (ray_limits[k] > best.value) best = {ray_limits[k], 0.0, 0.0, 0};
-  const double h = std::numbers::pi / kScan2D;
-  const int nx = kScan2D + 1, ny = 2 * kScan2D;
+  for (std::size_t q = 0; q < rays.size(); ++q)
+    ray_limits[static_cast<std::size_t>(rays[q])] = profile.ray(grid.phi(rays[q])).first;
+  for (int q = 0; q < grid.resolution.rays; ++q) {
+    const double v = ray_limits[static_cast<std::size_t>(grid.ray_representative[q])];
+    if (v > best.value) best = {v, 0.0, 0.0, 0, L2Probe::ray, grid.phi(q)};
+  }
+  const int k = grid.resolution.scan, nx = grid.nx, ny = grid.ny;
   std::vector<double> values(static_cast<std::size_t>(nx * ny));
-  const auto at = [&](int i, int j) -> double& {
+  const auto& unique = grid.unique;
+#pragma omp parallel for schedule(dynamic)
+  for (std::size_t q = 0; q < unique.size(); ++q) {
+    const int i = unique[q] / ny, j = unique[q] % ny;
+    const double tx = grid.theta_x(i), ty = grid.theta_y(j);
+    values[static_cast<std::size_t>(unique[q])] =
+        std::hypot(tx, ty) < 2.0 * kSmall2D ? profile(tx, ty) : profile.direct(tx, ty);
+  }
+  for (std::size_t p = 0; p < values.size(); ++p)
+    values[p] = values[static_cast<std::size_t>(grid.representative[p])];
+  const auto at = [&](int i, int j) -> double {
     return values[static_cast<std::size_t>(i * ny + ((j % ny) + ny) % ny)];
   };
-#pragma omp parallel for schedule(dynamic)
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j) {
-      const double tx = i * h, ty = (j - kScan2D + 1) * h;
-      at(i, j) = std::hypot(tx, ty) < 2.0 * kSmall2D ? profile(tx, ty) : profile.direct(tx, ty);
-    }
   // Local maxima (8 neighbours; theta_y wraps, theta_x is mirrored at 0 and pi), largest first.
   std::vector<std::pair<double, std::pair<int, int>>> maxima;
   for (int i = 0; i < nx; ++i)
@@ -322,8 +444,8 @@ L2Margin torus_margin(FamilySpectrum& spectrum, double courant, double stop_abov
           if (!di && !dj) continue;
           int ii = i + di, jj = j + dj;
           if (ii < 0 || ii >= nx) {  // mirror: rho(-tx, -ty) = rho(tx, ty), tx = pi + h ~ -(pi - h)
-            ii = ii < 0 ? -ii : 2 * kScan2D - ii;
-            jj = 2 * (kScan2D - 1) - jj;
+            ii = ii < 0 ? -ii : 2 * k - ii;
+            jj = 2 * (k - 1) - jj;
           }
           if (at(ii, jj) > v) {
             is_max = false;
@@ -331,82 +453,227 @@ L2Margin torus_margin(FamilySpectrum& spectrum, double courant, double stop_abov
           }
         }
       if (is_max) maxima.push_back({v, {i, j}});
-      if (v > best.value) best = {v, i * h, (j - kScan2D + 1) * h, 0};
+      if (v > best.value) best = {v, grid.theta_x(i), grid.theta_y(j), 0};
     }
   const auto finish = [&] {
     best.theta = std::abs(best.theta);
-    if (best.value > stop_above) hint = {best.theta, best.theta_y};
+    if (best.value > stop_above) hint = best;
     return best;
   };
   if (best.value > stop_above) return finish();
   std::sort(maxima.begin(), maxima.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
-  // Refinement sharpens the largest maxima, but not the neutral points of the axis lines (rho = 1
-  // there: the slope checks below decide). (Skipping maxima below a threshold is unsafe: a peak
-  // between grid points can lie above zero while the scan's values are below -1e-3.)
+  // Refinement sharpens the largest maxima (one per class of symmetric points), but not the
+  // neutral points of the axis lines (rho = 1 there: the slope checks below decide). (Skipping
+  // maxima below a threshold is unsafe: a peak between grid points can lie above zero while the
+  // scan's values are below -1e-3.)
   std::vector<std::pair<int, int>> starts;
-  for (std::size_t k = 0; k < maxima.size() && starts.size() < kRefined2D; ++k) {
-    const auto [i, j] = maxima[k].second;
-    const bool on_axis_line = i == 0 || j == kScan2D - 1;
-    const bool neutral = on_axis_line && std::abs(maxima[k].first) < 1e-9;  // rho = 1 there
-    if (!neutral) starts.push_back({i, j});
+  std::vector<int> started;
+  for (std::size_t q = 0; q < maxima.size() && starts.size() < grid.resolution.refined; ++q) {
+    const auto [i, j] = maxima[q].second;
+    const bool on_axis_line = i == 0 || j == k - 1;
+    const bool neutral = on_axis_line && std::abs(maxima[q].first) < 1e-9;  // rho = 1 there
+    const int rep = grid.representative[static_cast<std::size_t>(i * ny + j)];
+    if (neutral || std::find(started.begin(), started.end(), rep) != started.end()) continue;
+    started.push_back(rep);
+    starts.push_back({i, j});
   }
   std::vector<L2Margin> refined(starts.size(), best);
   {
     GslErrorsAsCodes guard;  // set once: the handler is global
 #pragma omp parallel for schedule(dynamic)
-    for (std::size_t k = 0; k < starts.size(); ++k)
-      refine_torus_maximum(profile, starts[k].first * h, (starts[k].second - kScan2D + 1) * h, h,
-                           refined[k]);
+    for (std::size_t q = 0; q < starts.size(); ++q)
+      refine_torus_maximum(profile, grid.theta_x(starts[q].first), grid.theta_y(starts[q].second),
+                           grid.h, refined[q]);
   }
   for (const auto& r : refined)
     if (r.value > best.value) best = r;
+  if (!grid.resolution.slopes) return finish();
   // The neutral lines: slope of rho off theta_x = 0 (toward theta_x > 0) and off theta_y = 0
-  // (both ways, theta_x in [0, pi] only), where rho = 1 on the line.
-  const auto slope = [&](double tx, double ty, double dx, double dy) {
-    const double f0 = spectrum.radius(tx, ty) - 1.0;
-    if (f0 < -1e-10) return -std::numeric_limits<double>::infinity();
-    const double f1 = spectrum.radius(tx + dx, ty + dy) - 1.0;
-    const double f2 = spectrum.radius(tx + 2 * dx, ty + 2 * dy) - 1.0;
-    return (4.0 * f1 - f2 - 3.0 * f0) / (2.0 * kLine2D);
-  };
-  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  // (both ways, theta_x in [0, pi] only), where rho = 1 on the line (rho there is the scan's).
+  // A mirror symmetry makes the slopes at theta_y = -t those at t, and the two ways off
+  // theta_y = 0 equal; the swap makes the line theta_y = 0 the other line.
+  const TorusSymmetry& symmetry = grid.symmetry;
   std::vector<std::array<double, 3>> slopes(static_cast<std::size_t>(ny), {kNone, kNone, kNone});
 #pragma omp parallel for schedule(dynamic)
   for (int j = 0; j < ny; ++j) {
-    const double t = (j - kScan2D + 1) * h;
+    const double t = grid.theta_y(j);
     if (std::abs(t) < 2.0 * kSmall2D) continue;  // the origin is the rays' business
-    slopes[j][0] = slope(0.0, t, kLine2D, 0.0);
-    if (t > 0) {
-      slopes[j][1] = slope(t, 0.0, 0.0, kLine2D);
-      slopes[j][2] = slope(t, 0.0, 0.0, -kLine2D);
+    const auto rho_minus_one = [&](int i, int jj) {
+      return at(i, jj) * TorusProfile::s_of(grid.theta_x(i), grid.theta_y(jj));
+    };
+    auto& s = slopes[static_cast<std::size_t>(j)];
+    if (t > 0 || !symmetry.mirror) s[0] = profile.line_slope(0.0, t, 1, 0, rho_minus_one(0, j));
+    if (t > 0 && !symmetry.swap) {
+      const int i = j - k + 1;  // theta_x = t on the grid
+      s[1] = profile.line_slope(t, 0.0, 0, 1, rho_minus_one(i, k - 1));
+      if (!symmetry.mirror) s[2] = profile.line_slope(t, 0.0, 0, -1, rho_minus_one(i, k - 1));
     }
   }
   for (int j = 0; j < ny; ++j) {
-    const double t = (j - kScan2D + 1) * h;
-    if (slopes[j][0] > best.value) best = {slopes[j][0], kLine2D, t, 0};
-    if (slopes[j][1] > best.value) best = {slopes[j][1], t, kLine2D, 0};
-    if (slopes[j][2] > best.value) best = {slopes[j][2], t, -kLine2D, 0};
+    const double t = grid.theta_y(j);
+    const auto& s = slopes[static_cast<std::size_t>(j)];
+    if (s[0] > best.value) best = {s[0], kLine2D, t, 0, L2Probe::line, 0.0, 1, 0};
+    if (s[1] > best.value) best = {s[1], t, kLine2D, 0, L2Probe::line, 0.0, 0, 1};
+    if (s[2] > best.value) best = {s[2], t, -kLine2D, 0, L2Probe::line, 0.0, 0, -1};
   }
   return finish();
 }
 
-}  // namespace
-
-L2Criterion::L2Criterion(const OneStepMap& map) : dim_(map.setting.dim) {
-  for (const auto& f : map.families) families_.emplace_back(f);
-  hints_.resize(families_.size(), {0.0, 0.0});
+// Whether the signed permutation of unknowns made of `particles` (particle p -> particles[p]) and
+// a signed involution of the components maps every B_{d,k} to B_{offset_map(d),k}: then
+// G(sigma theta) = S G(theta) S^T, and rho is the same at theta and sigma theta.
+template <class OffsetMap>
+bool maps_blocks(const StencilFamily& f, int n, const std::vector<int>& particles,
+                 OffsetMap offset_map, double tolerance) {
+  const int ncomp = f.size / n;
+  std::vector<int> target(static_cast<std::size_t>(f.offsets.size()), -1);
+  for (std::size_t o = 0; o < f.offsets.size(); ++o) {
+    const auto [dx, dy] = offset_map(f.offsets[o], f.offsets_y[o]);
+    for (std::size_t q = 0; q < f.offsets.size(); ++q)
+      if (f.offsets[q] == dx && f.offsets_y[q] == dy) target[o] = static_cast<int>(q);
+    if (target[o] < 0) return false;
+  }
+  std::vector<int> perm(static_cast<std::size_t>(ncomp));
+  std::iota(perm.begin(), perm.end(), 0);
+  do {
+    bool involution = true;
+    for (int c = 0; c < ncomp; ++c) involution = involution && perm[perm[c]] == c;
+    if (!involution) continue;
+    for (int signs = 0; signs < (1 << ncomp); ++signs) {
+      const auto unknown = [&](int u) { return perm[u / n] * n + particles[u % n]; };
+      const auto sign = [&](int u) { return (signs >> (u / n)) & 1 ? -1.0 : 1.0; };
+      bool all = true;
+      for (std::size_t o = 0; o < f.offsets.size() && all; ++o)
+        for (std::size_t p = 0; p < f.coefficients[o].size() && all; ++p) {
+          const auto& from = f.coefficients[o][p];
+          const auto& to = f.coefficients[static_cast<std::size_t>(target[o])][p];
+          for (int r = 0; r < f.size && all; ++r)
+            for (int s = 0; s < f.size && all; ++s)
+              all = std::abs(to(unknown(r), unknown(s)) - sign(r) * sign(s) * from(r, s)) <=
+                    tolerance;
+        }
+      if (all) return true;
+    }
+  } while (std::next_permutation(perm.begin(), perm.end()));
+  return false;
 }
 
-L2Margin L2Criterion::margin(double courant, double stop_above) {
+// The particle that `image` (a map of [0, 1]^2) sends each particle to, or empty.
+template <class Image>
+std::vector<int> particle_map(const CellLayout& layout, Image image) {
+  std::vector<int> to;
+  for (int p = 0; p < layout.size(); ++p) {
+    const auto [x, y] = image(layout.position(p, 0), layout.position(p, 1));
+    int found = -1;
+    for (int q = 0; q < layout.size() && found < 0; ++q)
+      if (std::abs(layout.position(q, 0) - x) <= 1e-12 &&
+          std::abs(layout.position(q, 1) - y) <= 1e-12 &&
+          std::abs(layout.weight(q) - layout.weight(p)) <= 1e-12 * layout.weight(p))
+        found = q;
+    if (found < 0) return {};
+    to.push_back(found);
+  }
+  return to;
+}
+
+}  // namespace
+
+TorusSymmetry detect_torus_symmetry(const StencilFamily& family, const CellLayout& layout,
+                                    double round_off) {
+  TorusSymmetry symmetry;
+  if (layout.dim != 2 || family.size % layout.size() != 0) return symmetry;
+  double scale = 0.0;
+  for (const auto& by_power : family.coefficients)
+    for (const auto& c : by_power) scale = std::max(scale, c.cwiseAbs().maxCoeff());
+  const double tolerance = std::max(1e-13, 100.0 * round_off) * scale;
+  const int n = layout.size();
+  const auto check = [&](auto image, auto offset_map) {
+    const std::vector<int> particles = particle_map(layout, image);
+    return !particles.empty() && maps_blocks(family, n, particles, offset_map, tolerance);
+  };
+  const auto mirror_x = [](double x, double y) { return std::pair{1.0 - x, y}; };
+  const auto mirror_y = [](double x, double y) { return std::pair{x, 1.0 - y}; };
+  const auto swap = [](double x, double y) { return std::pair{y, x}; };
+  symmetry.mirror = check(mirror_x,
+                          [](int dx, int dy) {
+                            return std::pair{-dx, dy};
+                          }) ||
+                    check(mirror_y, [](int dx, int dy) {
+                      return std::pair{dx, -dy};
+                    });
+  symmetry.swap = check(swap, [](int dx, int dy) { return std::pair{dy, dx}; });
+  return symmetry;
+}
+
+struct L2Criterion::Torus {
+  TorusGrid fine, coarse;
+};
+
+L2Criterion::L2Criterion(const OneStepMap& map) : dim_(map.setting.dim) {
+  for (const auto& f : map.families) {
+    families_.emplace_back(f);
+    if (dim_ == 2) {
+      const TorusSymmetry s = detect_torus_symmetry(f, map.layout, map.round_off);
+      symmetries_.push_back(s);
+      tori_.push_back(std::make_shared<Torus>(Torus{TorusGrid(kFine, s), TorusGrid(kCoarse, s)}));
+    }
+  }
+  hints_.resize(families_.size());
+  for (auto& h : hints_) h.value = kNone;
+}
+
+L2Margin L2Criterion::sweep(double courant, double stop_above, bool coarse) {
   L2Margin worst;
   for (std::size_t f = 0; f < families_.size(); ++f) {
+    families_[f].set_courant(courant);
     L2Margin m = dim_ == 1 ? family_margin(families_[f], courant)
-                           : torus_margin(families_[f], courant, stop_above, hints_[f]);
+                           : torus_margin(families_[f], coarse ? tori_[f]->coarse : tori_[f]->fine,
+                                          stop_above, hints_[f]);
     m.family = static_cast<int>(f);
     if (f == 0 || m.value > worst.value) worst = m;
   }
   return worst;
+}
+
+L2Margin L2Criterion::margin(double courant, double stop_above) {
+  return sweep(courant, stop_above, false);
+}
+
+L2Margin L2Criterion::coarse_margin(double courant, double stop_above) {
+  return sweep(courant, stop_above, dim_ == 2);
+}
+
+double L2Criterion::probe_margin(double courant, const L2Margin& probe) {
+  if (dim_ == 1) return margin(courant).value;
+  auto& spectrum = families_[static_cast<std::size_t>(probe.family)];
+  spectrum.set_courant(courant);
+  return TorusProfile{spectrum}.probe(probe);
+}
+
+L2Margin L2Criterion::sharpen(double courant, const L2Margin& probe) {
+  L2Margin best = probe;
+  if (dim_ == 1 || probe.kind != L2Probe::point) {
+    best.value = probe_margin(courant, probe);
+    return best;
+  }
+  auto& spectrum = families_[static_cast<std::size_t>(probe.family)];
+  spectrum.set_courant(courant);
+  const TorusProfile profile{spectrum};
+  best.value = profile(probe.theta, probe.theta_y);
+  if (std::hypot(probe.theta, probe.theta_y) < 2.0 * kSmall2D) {
+    // Near the origin the margin is the rays' model: the largest limit of the full sweep's rays.
+    const TorusGrid& grid = tori_[static_cast<std::size_t>(probe.family)]->fine;
+    for (const int q : grid.unique_rays)
+      if (const double v = profile.ray(grid.phi(q)).first; v > best.value)
+        best.value = v, best.kind = L2Probe::ray, best.phi = grid.phi(q);
+    if (best.kind == L2Probe::ray) best.theta = best.theta_y = 0.0;
+    return best;
+  }
+  GslErrorsAsCodes guard;
+  refine_torus_maximum(profile, probe.theta, probe.theta_y, std::numbers::pi / kFine.scan, best);
+  best.theta = std::abs(best.theta);
+  return best;
 }
 
 double L2Criterion::spectral_radius(double courant, double theta, double theta_y) {

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <complex>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -50,12 +51,30 @@ class FamilySpectrum {
   int rank_ = 0;
 };
 
+// What a 2D margin was read from (a probe that can be evaluated again at another C): the margin
+// at a point of the torus, the long-wave limit along a ray from the origin, or the slope off a
+// neutral axis line.
+enum class L2Probe { point, ray, line };
+
 struct L2Margin {
   double value = 0.0;
   double theta = 0.0;    // where the maximum is (theta_x in 2D)
   double theta_y = 0.0;  // 2D
   int family = 0;
+  L2Probe kind = L2Probe::point;  // 2D
+  double phi = 0.0;               // ray: its direction (theta = 0 then)
+  int line_x = 0, line_y = 0;  // line: the slope is toward (line_x, line_y) from theta - 1e-3 of it
 };
+
+// Symmetries of a 2D symbol found in the one-step map (not assumed): rho is the same at
+// (theta_x, theta_y) and (-theta_x, theta_y) (mirror), and at (theta_y, theta_x) (swap). A
+// layout and physics symmetric about a cell's mid-line or diagonal give them; the sweeps then
+// evaluate rho once per class of equal points.
+struct TorusSymmetry {
+  bool mirror = false, swap = false;
+};
+TorusSymmetry detect_torus_symmetry(const StencilFamily& family, const CellLayout& layout,
+                                    double round_off);
 
 class L2Criterion {
  public:
@@ -63,12 +82,25 @@ class L2Criterion {
   // stop_above (2D): a caller that only needs to know whether the margin exceeds it may get, when
   // it does, a value above it that is not the maximum (cheaper: refinements are skipped).
   L2Margin margin(double courant, double stop_above = std::numeric_limits<double>::infinity());
+  // 2D: the margin on a 4 x 8 scan of the half torus and 4 rays, without slopes or refinement
+  // (what the search scans C with; 1D: margin).
+  L2Margin coarse_margin(double courant,
+                         double stop_above = std::numeric_limits<double>::infinity());
+  // The margin of one probe (a result of margin or coarse_margin) at C.
+  double probe_margin(double courant, const L2Margin& probe);
+  // A point probe moved to the nearby maximum of the margin at C (simplex); others re-evaluated.
+  L2Margin sharpen(double courant, const L2Margin& probe);
   // max over families of rho(G(theta)) at C.
   double spectral_radius(double courant, double theta, double theta_y = 0.0);
+  const std::vector<TorusSymmetry>& symmetries() const { return symmetries_; }
 
  private:
+  L2Margin sweep(double courant, double stop_above, bool coarse);
+  struct Torus;
   std::vector<FamilySpectrum> families_;
-  std::vector<std::pair<double, double>> hints_;  // per family: where the margin last exceeded
+  std::vector<TorusSymmetry> symmetries_;     // 2D, per family
+  std::vector<std::shared_ptr<Torus>> tori_;  // 2D, per family: the scans' points and classes
+  std::vector<L2Margin> hints_;               // per family: what exceeded the margin last time
   int dim_ = 1;
 };
 
