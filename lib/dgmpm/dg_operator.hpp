@@ -22,6 +22,9 @@
 
 #include <Eigen/Core>
 #include <array>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <utility>
 #include <vector>
 
@@ -53,6 +56,7 @@ class DGOperator {
   DGOperator(const Grid<dim>& grid, const Disc& disc, const Boundaries<dim>& boundaries,
              FluxScheme flux = FluxScheme::dcu)
       : grid_(grid), disc_(disc), scheme_(dim > 1 ? flux : FluxScheme::dcu) {
+    for (int l = 0, stride = 1; l < dim; stride *= grid.cells[l], ++l) stride_[l] = stride;
     for (int l = 0; l < dim; ++l) {
       face_weight_[l] = 1.0;
       for (int k = 0; k < dim; ++k)
@@ -77,14 +81,54 @@ class DGOperator {
   // results do not depend on the number of threads.
   bool threaded() const { return disc_.num_cells() >= kThreadedCells; }
 
+  // Only occupied cells' nodes are written (and ever read): no pass clears the others.
   void project(const ParticleField& qp, const Eigen::VectorXd& mass, NodalField& qn) const {
-    qn.setZero(ncomp, num_nodes());
+    qn.resize(ncomp, num_nodes());
 #pragma omp parallel for schedule(static) if (threaded())
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
       auto block = qn.template middleCols<npc>(c * npc);
       project_cell(c, qp, mass, block);
     }
+  }
+
+  // --- Fused stages (DCU): one pass over the cells after the projection, each cell computing
+  // its whole residual (volume term and its own faces' fluxes, each face's star state computed
+  // from both sides by each of its two cells, identically) and its update; no nodal residual
+  // array, no clearing pass. The same sums in the same order as residual() + update(), so the
+  // same values to the last bit (tests/lib_fused_steps.cpp).
+  bool fused() const {
+    return scheme_ == FluxScheme::dcu;
+  }
+
+  // Euler: qp of each cell's particles = interpolation of q + dt M^-1 r(q, t).
+  void advance_to_particles(const NodalField& q, double t, double dt, ParticleField& qp) const {
+    for_each_occupied_cell([&](int c, const Sweep& sweep) {
+      CellBlock out;
+      advance_cell(c, q, t, dt, sweep, out);
+      interpolate_cell(c, out, qp);
+    });
+  }
+
+  // RK2's first stage: next = q + dt M^-1 r(q, t) on every occupied cell.
+  void advance(const NodalField& q, double t, double dt, NodalField& next) const {
+    next.resize(ncomp, num_nodes());
+    for_each_occupied_cell([&](int c, const Sweep& sweep) {
+      CellBlock out;
+      advance_cell(c, q, t, dt, sweep, out);
+      next.template middleCols<npc>(c * npc) = out;
+    });
+  }
+
+  // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2.
+  void average_to_particles(const NodalField& q0, const NodalField& q1, double t, double dt,
+                            ParticleField& qp) const {
+    for_each_occupied_cell([&](int c, const Sweep& sweep) {
+      CellBlock out;
+      advance_cell(c, q1, t, dt, sweep, out);
+      out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
+      interpolate_cell(c, out, qp);
+    });
   }
 
   // dt is read by CTU only (its transverse corrections scale with dt / h).
@@ -138,9 +182,7 @@ class DGOperator {
 #pragma omp parallel for schedule(static) if (threaded())
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
-      const auto block = qn.template middleCols<npc>(c * npc);
-      for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)
-        qp.col(disc_.entry_particle(e)).noalias() = block * disc_.entry_shape(e);
+      interpolate_cell(c, qn.template middleCols<npc>(c * npc), qp);
     }
   }
 
@@ -168,6 +210,119 @@ class DGOperator {
   }
 
  private:
+  using CellBlock = Eigen::Matrix<double, ncomp, npc>;
+
+  template <class Block>
+  void interpolate_cell(int c, const Block& block, ParticleField& qp) const {
+    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)
+      qp.col(disc_.entry_particle(e)).noalias() = block * disc_.entry_shape(e);
+  }
+
+  // A thread's sweep over its contiguous range of cells [begin, end), in order. The star state of
+  // each cell's upper face along l is kept (slot c mod stride_l of that axis) for the cell above
+  // along l, whose lower face it is: each interior face's Riemann problem is solved once.
+  struct Sweep {
+    int begin = 0;
+    std::array<State*, dim> stars{};
+  };
+
+  template <class Body>
+  void for_each_occupied_cell(Body&& body) const {
+    const int n = disc_.num_cells();
+    int threads = 1;
+#ifdef _OPENMP
+    if (threaded()) threads = omp_get_max_threads();
+#endif
+    const std::size_t per_thread = star_slots_per_thread();
+    if (star_cache_.size() < per_thread * threads) star_cache_.resize(per_thread * threads);
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    {
+      int thread = 0, team = 1;
+#ifdef _OPENMP
+      thread = omp_get_thread_num();
+      team = omp_get_num_threads();
+#endif
+      Sweep sweep;
+      sweep.begin = static_cast<int>(static_cast<long>(n) * thread / team);
+      const int end = static_cast<int>(static_cast<long>(n) * (thread + 1) / team);
+      State* slots = star_cache_.data() + per_thread * thread;
+      for (int l = 0; l < dim; ++l) {
+        sweep.stars[l] = slots;
+        slots += stride_[l];
+      }
+      for (int c = sweep.begin; c < end; ++c)
+        if (disc_.occupied(c)) body(c, sweep);
+    }
+  }
+  std::size_t star_slots_per_thread() const {
+    std::size_t slots = 0;
+    for (int l = 0; l < dim; ++l) slots += static_cast<std::size_t>(stride_[l]);
+    return slots;
+  }
+
+  // Cell c's residual (DCU): the volume term, then its faces axis by axis (each node receives one
+  // face per axis: the lower face's nodes have bit l clear), as residual() sums them.
+  [[gnu::always_inline]] inline void cell_residual(int c, const NodalField& qn, double t,
+                                                   const Sweep& sweep, CellBlock& rc) const {
+    rc.setZero();
+    const auto& mat = disc_.cell_material(c);
+    const auto q = qn.template middleCols<npc>(c * npc);
+    CellBlock flux;
+    for (int l = 0; l < dim; ++l) {
+      for (int a = 0; a < npc; ++a) flux.col(a) = Physics::specific_flux(l, q.col(a), mat);
+      rc.noalias() += flux * disc_.stiffness(c, l).transpose();
+    }
+    for (int l = 0; l < dim; ++l) {
+      const double w = face_weight_[l];
+      for (int up = 0; up < 2; ++up) {
+        // face_star's star, from this side: the same Riemann problem as the other cell solves.
+        const int f = cell_faces_[l][2 * c + up];
+        const auto [cm, cp] = face_cells_[l][f];
+        const int o = up ? cp : cm;
+        const State mine = edge_average(q, l, up);
+        State star;
+        State& slot = sweep.stars[l][c % stride_[l]];
+        if (!up && o == c - stride_[l] && o >= sweep.begin && occupied(o)) {
+          star = sweep.stars[l][o % stride_[l]];  // solved by o, as its upper face, just before
+        } else if (occupied(o)) {
+          const State theirs = edge_state(qn, o, l, !up);
+          const auto& mat_o = disc_.cell_material(o);
+          star = up ? Physics::riemann(l, mine, mat, theirs, mat_o)
+                    : Physics::riemann(l, theirs, mat_o, mine, mat);
+        } else {
+          star = boundary_star(l, f, mine, mat, up, t);
+        }
+        if (up) slot = star;
+        const State fl = w * Physics::flux(l, star, mat);
+        for (int a = 0; a < npc; ++a)
+          if (((a >> l) & 1) == up) {
+            if (up)
+              rc.col(a) -= fl;
+            else
+              rc.col(a) += fl;
+          }
+      }
+    }
+  }
+
+  // out = q_c + dt M^-1 r_c, massless nodes as in update().
+  [[gnu::always_inline]] inline void advance_cell(int c, const NodalField& qn, double t, double dt,
+                                                  const Sweep& sweep, CellBlock& out) const {
+    CellBlock rc;
+    cell_residual(c, qn, t, sweep, rc);
+    if (disc_.has_massless_nodes())
+      for (int a = 0; a < npc; ++a) {
+        const int i = c * npc + a, s = disc_.node_source(i);
+        if (s >= 0 && s != i) rc.col(s - c * npc) += rc.col(a);
+      }
+    out = qn.template middleCols<npc>(c * npc);
+    for (int a = 0; a < npc; ++a) out.col(a) += (dt * disc_.inverse_mass(c * npc + a)) * rc.col(a);
+    for (int a = 0; a < npc; ++a) {
+      const int i = c * npc + a, s = disc_.node_source(i);
+      if (s != i) out.col(a) = out.col(s - c * npc);
+    }
+  }
+
   struct FaceCondition {
     BoundaryKind kind = BoundaryKind::free;
     int begin = 0, end = 0;  // parts_[begin, end): (time table, covered fraction)
@@ -409,6 +564,9 @@ class DGOperator {
   std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity
   // CTU only: star states and transverse corrections of the faces of each axis.
   mutable std::array<NodalField, dim> star_, correction_;
+  // Fused stages: cell index stride along each axis, and each thread's upper-face star states.
+  std::array<int, dim> stride_{};
+  mutable std::vector<State> star_cache_;
 };
 
 }  // namespace dgmpm

@@ -21,6 +21,10 @@ class ForwardEuler {
   void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
     op.project(qp, mass, q_);
+    if (op.fused()) {
+      op.advance_to_particles(q_, t, dt, qp);
+      return;
+    }
     op.residual(q_, t, dt, r_);
     op.update(q_, r_, dt);
     op.interpolate(q_, qp);
@@ -40,6 +44,11 @@ class HeunRK2 {
   void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
     op.project(qp, mass, q0_);
+    if (op.fused()) {
+      op.advance(q0_, t, dt, q1_);
+      op.average_to_particles(q0_, q1_, t + dt, dt, qp);
+      return;
+    }
     op.residual(q0_, t, dt, r_);
     q1_ = q0_;
     op.update(q1_, r_, dt);
