@@ -4,6 +4,7 @@
 #include "bench/solver_bench.hpp"
 #include "solver/run_command.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -15,6 +16,8 @@ struct BenchArguments {
   double seconds = 2.0;
   std::vector<std::string> what{"solver", "courant"};
   int threads = 0;
+  bool json = false;
+  int repeats = 3;
 };
 }  // namespace
 
@@ -28,14 +31,32 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--seconds", args->seconds,
                   "Time spent per case (and per auto time step cost measurement)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--what", args->what,
-                  "Benchmarks to run: solver, courant (default both), plate (2D; give "
-                  "--particles 10000,100000,1000000), courant-2d (2D query costs, 3 runs each)")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"solver", "courant", "plate", "courant-2d"}));
+  CLI::Option* what =
+      cmd->add_option("--what", args->what,
+                      "Benchmarks to run: solver, courant (default both), plate (2D; give "
+                      "--particles 10000,100000,1000000), courant-2d (2D query costs, 3 runs each)")
+          ->delimiter(',')
+          ->check(CLI::IsMember({"solver", "courant", "plate", "courant-2d"}));
   add_threads_option(*cmd, args->threads);
+  CLI::Option* json =
+      cmd->add_flag(
+             "--json", args->json,
+             "The speed goals as one JSON object (one core unless said; the largest of "
+             "--particles, default 1e6): particle-steps/s min and median of --repeats runs of "
+             "--seconds each, heap bytes per particle, bytes per particle-step by count, the "
+             "triad bandwidth and the fraction of its bound, two threads against one")
+          ->excludes(what);
+  cmd->add_option("--repeats", args->repeats, "Runs per case for --json (min and median)")
+      ->check(CLI::Range(1, 100))
+      ->needs(json);
   cmd->callback([args] {
     apply_threads(args->threads);
+    if (args->json) {
+      run_goals_benchmark(std::cout,
+                          *std::max_element(args->particles.begin(), args->particles.end()),
+                          args->seconds, args->repeats);
+      return;
+    }
     for (const auto& w : args->what) {
       if (w == "solver") run_solver_benchmark(std::cout, args->particles, args->seconds);
       if (w == "courant") run_courant_benchmark(std::cout);

@@ -157,14 +157,14 @@ namespace {
 // The founding paper's plate (4 m x 3 m, -2e8 Pa on the lower metre of the left edge, other
 // edges free) with about `particles` particles: square-ish cells, ppc per axis 1 or 2.
 scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
-                         const std::string& integrator) {
+                         const std::string& integrator, const std::string& method = "dgmpm") {
   const double per_cell = ppc_axis * ppc_axis;
   const int nx =
       std::max(1, static_cast<int>(std::lround(std::sqrt(particles / per_cell * 4 / 3))));
   const int ny = std::max(1, static_cast<int>(std::lround(nx * 0.75)));
   nlohmann::json doc = {
       {"dimension", 2},
-      {"flux", flux},
+      {"method", method},
       {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {4.0 / nx, 3.0 / ny}}, {"cells", {nx, ny}}}},
       {"materials", {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}}}},
       {"bodies",
@@ -174,6 +174,7 @@ scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
       {"boundaries",
        {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 0.0}}, {"range", {0.0, 1.0}}}}}}},
       {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}}}};
+  if (method == "dgmpm") doc["flux"] = flux;
   return scene::parse_scene(doc, "bench plate");
 }
 
@@ -211,6 +212,164 @@ void run_plate_benchmark(std::ostream& out, const std::vector<int>& particle_cou
               << std::defaultfloat << std::setw(16) << std::fixed << std::setprecision(0) << bytes
               << std::defaultfloat << '\n';
         }
+}
+
+namespace {
+
+// STREAM's triad a = b + s c on arrays far larger than the caches, on this thread: bytes per
+// second (24 per element, STREAM's count), best of `runs`.
+double triad_bytes_per_second(int runs) {
+  const std::size_t n = std::size_t{1} << 23;  // 64 MB per array
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+  double best = 0.0;
+  for (int r = 0; r < runs; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double scalar = 3.0 + r;
+    for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + scalar * c[i];
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    best = std::max(best, 24.0 * static_cast<double>(n) / s);
+    b[r % n] = a[(r * 7919) % n];  // keep the stores live
+  }
+  return best;
+}
+
+// The bytes a particle-step cannot avoid moving to and from memory, by count: the particle's
+// state read and written, its mass, and its shape values at its cell's nodes (per-cell data such
+// as the pseudo-stiffness is left out: it could be recomputed from the particles); moving
+// particles add their position read and written and the shape values written by the rebuild;
+// MPM reads the position (shape functions computed on the fly), the mass and reads and writes
+// the state and the volume.
+struct Traffic {
+  int dim, ncomp;
+  bool move, mpm;
+  double bytes() const {
+    const int npc = 1 << dim;
+    if (mpm) return 8.0 * (2 * ncomp + 1 + 2 + dim);
+    double b = 8.0 * (2 * ncomp + 1 + npc);
+    if (move) b += 8.0 * (2 * dim + npc);
+    return b;
+  }
+};
+
+struct Rates {
+  std::vector<double> runs;  // particle-steps per second
+  double min() const { return *std::min_element(runs.begin(), runs.end()); }
+  double median() const {
+    std::vector<double> v = runs;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  }
+};
+
+template <class Physics>
+Rates time_steps(Simulation<Physics>& sim, int repeats, double seconds) {
+  using clock = std::chrono::steady_clock;
+  const bool fresh_dt = sim.scene().time.courant_auto;
+  const double dt = sim.stable_time_step();
+  const auto step = [&] { sim.step(fresh_dt ? sim.stable_time_step() : dt); };
+  step();  // warm: every buffer allocated
+  Rates rates;
+  const double n = sim.particles().size();
+  for (int r = 0; r < repeats; ++r) {
+    long steps = 0;
+    const auto t0 = clock::now();
+    double spent = 0;
+    while (spent < seconds) {
+      step();
+      ++steps;
+      spent = std::chrono::duration<double>(clock::now() - t0).count();
+    }
+    rates.runs.push_back(static_cast<double>(steps) * n / spent);
+  }
+  return rates;
+}
+
+struct GoalCase {
+  std::string name;
+  scene::Scene scene;
+  Traffic traffic;
+};
+
+nlohmann::json measure_case(const GoalCase& c, int repeats, double seconds, double triad) {
+  return with_physics(c.scene, [&](auto physics) {
+    using Physics = typename decltype(physics)::type;
+    const double before = heap_bytes();
+    Simulation<Physics> sim(c.scene);
+    sim.step(sim.stable_time_step());  // every buffer allocated
+    const double n = sim.particles().size();
+    const double resident = (heap_bytes() - before) / n;
+    const Rates rates = time_steps(sim, repeats, seconds);
+    const double bytes = c.traffic.bytes();
+    const double bound = triad / bytes;
+    return nlohmann::json{
+        {"case", c.name},
+        {"particles", sim.particles().size()},
+        {"threads", omp_get_max_threads()},
+        {"particle_steps_per_second",
+         {{"min", rates.min()}, {"median", rates.median()}, {"runs", rates.runs}}},
+        {"resident_bytes_per_particle", resident},
+        {"bytes_per_particle_step", bytes},
+        {"bound_particle_steps_per_second", bound},
+        {"fraction_of_bound", rates.median() / bound}};
+  });
+}
+
+// Particle states after `steps` steps of the scene on `threads` threads.
+Eigen::MatrixXd states_after(const scene::Scene& scene, int threads, int steps) {
+  omp_set_num_threads(threads);
+  return with_physics(scene, [&](auto physics) {
+    using Physics = typename decltype(physics)::type;
+    Simulation<Physics> sim(scene);
+    const double dt = sim.stable_time_step();
+    for (int k = 0; k < steps; ++k) sim.step(dt);
+    return Eigen::MatrixXd(sim.particles().state);
+  });
+}
+
+}  // namespace
+
+void run_goals_benchmark(std::ostream& out, int particles, double seconds, int repeats) {
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);  // the goals are for one core unless said
+  const double triad = triad_bytes_per_second(5);
+  const std::vector<GoalCase> cases{
+      {"1D DGMPM Euler", bar_scene(particles, "dgmpm", "euler", false), {1, 2, false, false}},
+      {"1D DGMPM RK2", bar_scene(particles, "dgmpm", "rk2", false), {1, 2, false, false}},
+      {"1D moving, auto dt, 2 ppc",
+       bar_scene(particles, "dgmpm", "euler", true, true, 2),
+       {1, 2, true, false}},
+      {"2D DGMPM DCU Euler, 1 ppc",
+       plate_scene(particles, 1, "dcu", "euler"),
+       {2, 5, false, false}},
+      {"2D DGMPM CTU RK2, 1 ppc", plate_scene(particles, 1, "ctu", "rk2"), {2, 5, false, false}},
+      {"2D DGMPM 4 ppc (DCU Euler)",
+       plate_scene(particles, 2, "dcu", "euler"),
+       {2, 5, false, false}},
+      {"2D MPM USL, 1 ppc",
+       plate_scene(particles, 1, "dcu", "euler", "mpm-usl"),
+       {2, 5, false, true}}};
+  nlohmann::json report;
+  report["triad_bytes_per_second"] = triad;
+  report["repeats"] = repeats;
+  report["seconds_per_repeat"] = seconds;
+  for (const GoalCase& c : cases)
+    report["cases"].push_back(measure_case(c, repeats, seconds, triad));
+  // Two threads against one (on the 1D and 2D DCU Euler cases): rates and identical states.
+  if (threads >= 2)
+    for (const std::size_t k : {std::size_t{0}, std::size_t{3}}) {
+      omp_set_num_threads(2);
+      nlohmann::json two = measure_case(cases[k], repeats, seconds, 2 * triad);
+      const double one = report["cases"][k]["particle_steps_per_second"]["median"];
+      const bool identical =
+          states_after(cases[k].scene, 1, 5) == states_after(cases[k].scene, 2, 5);
+      report["two_threads"].push_back(
+          {{"case", cases[k].name},
+           {"particle_steps_per_second", two["particle_steps_per_second"]},
+           {"speed_up", two["particle_steps_per_second"]["median"].get<double>() / one},
+           {"bit_identical", identical}});
+    }
+  omp_set_num_threads(threads);
+  out << report.dump(2) << '\n';
 }
 
 }  // namespace dgmpm::bench

@@ -14,4 +14,10 @@ void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_co
 void run_plate_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
                          double seconds);
 
+// The speed goals as JSON, on one core unless said: each case's particle-steps per second (min and
+// median of `repeats` runs of `seconds`), heap bytes per particle, the bytes a particle-step must
+// move by count, the triad bandwidth measured in the same run and the fraction of the bound it
+// gives; then two threads against one (speed-up, identical states).
+void run_goals_benchmark(std::ostream& out, int particles, double seconds, int repeats);
+
 }  // namespace dgmpm::bench

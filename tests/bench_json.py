@@ -1,0 +1,33 @@
+"""`dgmpm bench --json` prints one JSON object with every goal case, its rates (min <= median,
+one per repeat), heap bytes per particle, the bytes a particle-step moves by count, the triad
+bandwidth and the fraction of its bound (consistent with each other), and two threads against
+one with identical states. Speed itself is not asserted (benchmarks, not tests)."""
+import json
+import subprocess
+import sys
+
+binary = sys.argv[1]
+out = subprocess.run([binary, "bench", "--json", "--particles", "3000", "--seconds", "0.01",
+                      "--repeats", "2", "--threads", "2"], check=True, capture_output=True,
+                     text=True).stdout
+report = json.loads(out)
+triad = report["triad_bytes_per_second"]
+assert triad > 1e8, triad
+names = [c["case"] for c in report["cases"]]
+assert names == ["1D DGMPM Euler", "1D DGMPM RK2", "1D moving, auto dt, 2 ppc",
+                 "2D DGMPM DCU Euler, 1 ppc", "2D DGMPM CTU RK2, 1 ppc",
+                 "2D DGMPM 4 ppc (DCU Euler)", "2D MPM USL, 1 ppc"], names
+for c in report["cases"]:
+    rates = c["particle_steps_per_second"]
+    assert len(rates["runs"]) == 2 and min(rates["runs"]) == rates["min"], c
+    assert 0 < rates["min"] <= rates["median"], c
+    assert c["threads"] == 1, c
+    assert c["bytes_per_particle_step"] >= 56, c
+    assert abs(c["bound_particle_steps_per_second"] * c["bytes_per_particle_step"] - triad) <= 1e-6 * triad, c
+    assert abs(c["fraction_of_bound"] - rates["median"] / c["bound_particle_steps_per_second"]) <= 1e-12, c
+    assert 0 < c["resident_bytes_per_particle"] < 1e5, c
+assert [t["case"] for t in report["two_threads"]] == ["1D DGMPM Euler", "2D DGMPM DCU Euler, 1 ppc"]
+assert all(t["bit_identical"] for t in report["two_threads"]), report["two_threads"]
+refused = subprocess.run([binary, "bench", "--json", "--what", "solver"], capture_output=True)
+assert refused.returncode != 0 and b"--what excludes --json" in refused.stderr, refused
+print("bench --json: %d cases, triad %.3g B/s" % (len(names), triad))
