@@ -224,6 +224,7 @@ class DGOperator {
   struct Sweep {
     int begin = 0;
     std::array<State*, dim> stars{};
+    std::array<int, dim> slot{};  // c mod stride_l, kept by the loop (no division per cell)
   };
 
   template <class Body>
@@ -250,8 +251,12 @@ class DGOperator {
         sweep.stars[l] = slots;
         slots += stride_[l];
       }
-      for (int c = sweep.begin; c < end; ++c)
+      for (int l = 0; l < dim; ++l) sweep.slot[l] = sweep.begin % stride_[l];
+      for (int c = sweep.begin; c < end; ++c) {
         if (disc_.occupied(c)) body(c, sweep);
+        for (int l = 0; l < dim; ++l)
+          if (++sweep.slot[l] == stride_[l]) sweep.slot[l] = 0;
+      }
     }
   }
   std::size_t star_slots_per_thread() const {
@@ -281,9 +286,9 @@ class DGOperator {
         const int o = up ? cp : cm;
         const State mine = edge_average(q, l, up);
         State star;
-        State& slot = sweep.stars[l][c % stride_[l]];
+        State& slot = sweep.stars[l][sweep.slot[l]];  // o = c - stride_l shares it
         if (!up && o == c - stride_[l] && o >= sweep.begin && occupied(o)) {
-          star = sweep.stars[l][o % stride_[l]];  // solved by o, as its upper face, just before
+          star = slot;  // solved by o, as its upper face, just before
         } else if (occupied(o)) {
           const State theirs = edge_state(qn, o, l, !up);
           const auto& mat_o = disc_.cell_material(o);
