@@ -49,26 +49,35 @@ class Discretisation {
   void set_fill_correction(bool on) { fill_correction_ = on; }
 
   // Rebuilds from the particles' current positions. Storage is reused: no allocation once the
-  // sizes are reached. Throws ParticleOutsideGrid.
+  // sizes are reached. Incremental: when no particle changed cell since the last build (moving
+  // particles travel less than a cell per step), the cells keep their particle lists and only
+  // the values are recomputed. Throws ParticleOutsideGrid.
   void build(const Grid<dim>& grid, const Particles<dim, ncomp>& particles,
              const std::vector<Material>& materials) {
     const int nc = grid.num_cells(), np = particles.size();
+    bool same_cells = static_cast<int>(particle_cell_.size()) == np &&
+                      static_cast<int>(cell_begin_.size()) == nc + 1;
     particle_cell_.resize(np);
     local_.resize(dim, np);
-    cell_begin_.assign(nc + 1, 0);
     for (int p = 0; p < np; ++p) {
       Eigen::Matrix<double, dim, 1> xi;
       const int c = grid.locate(particles.position.col(p), xi);
       if (c < 0) throw_outside_grid(particles, p);
+      same_cells = same_cells && particle_cell_[p] == c;
       particle_cell_[p] = c;
       local_.col(p) = xi;
-      ++cell_begin_[c + 1];
     }
-    for (int c = 0; c < nc; ++c) cell_begin_[c + 1] += cell_begin_[c];
-    entries_.resize(np);
+    ++builds_;
+    if (!same_cells) {  // counting sort of the particles by cell
+      ++sorts_;
+      cell_begin_.assign(nc + 1, 0);
+      for (int p = 0; p < np; ++p) ++cell_begin_[particle_cell_[p] + 1];
+      for (int c = 0; c < nc; ++c) cell_begin_[c + 1] += cell_begin_[c];
+      entries_.resize(np);
+      fill_.assign(cell_begin_.begin(), cell_begin_.end() - 1);
+      for (int p = 0; p < np; ++p) entries_[fill_[particle_cell_[p]]++] = p;
+    }
     shape_.resize(npc, np);
-    fill_.assign(cell_begin_.begin(), cell_begin_.end() - 1);
-    for (int p = 0; p < np; ++p) entries_[fill_[particle_cell_[p]]++] = p;
 
     node_mass_.setZero(grid.num_nodes());
     inv_mass_.setZero(grid.num_nodes());
@@ -77,6 +86,8 @@ class Discretisation {
     cell_material_.resize(nc);
     occupied_.assign(nc, 0);
     has_massless_ = false;
+    most_filled_ = -1;
+    most_fill_ = 0.0;
 
     for (int c = 0; c < nc; ++c) {
       for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
@@ -98,6 +109,8 @@ class Discretisation {
       occupied_[c] = cell_mass > 0.0;
       if (!occupied_[c]) continue;
       set_node_sources(c, cell_mass);
+      const double fill = cell_mass / (Physics::density(cell_material_[c]) * grid.cell_volume());
+      if (fill > most_fill_) most_fill_ = fill, most_filled_ = c;
       if (fill_correction_) {
         const double full = Physics::density(cell_material_[c]) * grid.cell_volume();
         for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] *= full / cell_mass;
@@ -125,6 +138,13 @@ class Discretisation {
   // Whether some occupied cell has a massless node (so update() has residuals to fold).
   bool has_massless_nodes() const { return has_massless_; }
   int num_particles() const { return static_cast<int>(entries_.size()); }
+  // The cell whose particles carry the most mass for its volume (m_c / (rho V), rho its
+  // material's density), and that ratio (-1 and 0 without particles).
+  int most_filled_cell() const { return most_filled_; }
+  double most_fill() const { return most_fill_; }
+  // Builds so far, and those that had to sort the particles by cell again.
+  long builds() const { return builds_; }
+  long sorts() const { return sorts_; }
 
  private:
   // A massless node (every particle of its cell on the far side) takes no part in the update.
@@ -164,6 +184,9 @@ class Discretisation {
   std::vector<char> occupied_;
   bool has_massless_ = false;
   bool fill_correction_ = false;
+  int most_filled_ = -1;
+  double most_fill_ = 0.0;
+  long builds_ = 0, sorts_ = 0;
 };
 
 }  // namespace dgmpm
