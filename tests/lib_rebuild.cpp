@@ -89,7 +89,7 @@ BOOST_AUTO_TEST_CASE(incremental_rebuild_equals_a_build_from_scratch) {
   std::uniform_real_distribution<double> nudge(-0.02, 0.02);
   for (int step = 0; step < 3; ++step) {
     for (int n = 0; n < p.size(); ++n) {
-      Eigen::Matrix<double, 2, 1> xi;
+      Eigen::Matrix<double, 2, 1> xi = Eigen::Matrix<double, 2, 1>::Zero();
       const int c = g.locate(p.position.col(n), xi);
       for (int a = 0; a < 2; ++a)
         p.position(a, n) +=

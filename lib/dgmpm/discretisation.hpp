@@ -70,12 +70,15 @@ class Discretisation {
     ++builds_;
     if (!same_cells) {  // counting sort of the particles by cell
       ++sorts_;
+      // Ends of the cells' ranges, then filled from the back: each end moves down to its begin
+      // (no scratch array), particles in increasing order within a cell.
       cell_begin_.assign(nc + 1, 0);
       for (int p = 0; p < np; ++p) ++cell_begin_[particle_cell_[p] + 1];
       for (int c = 0; c < nc; ++c) cell_begin_[c + 1] += cell_begin_[c];
       entries_.resize(np);
-      fill_.assign(cell_begin_.begin(), cell_begin_.end() - 1);
-      for (int p = 0; p < np; ++p) entries_[fill_[particle_cell_[p]]++] = p;
+      for (int p = np - 1; p >= 0; --p) entries_[--cell_begin_[particle_cell_[p] + 1]] = p;
+      for (int c = 0; c < nc; ++c) cell_begin_[c] = cell_begin_[c + 1];
+      cell_begin_[nc] = np;
     }
     shape_.resize(npc, np);
 
@@ -84,6 +87,7 @@ class Discretisation {
     node_source_.assign(grid.num_nodes(), -1);
     stiffness_.resize(static_cast<std::size_t>(nc) * dim);
     cell_material_.resize(nc);
+    table_.assign(materials.begin(), materials.end());  // this build's blends follow
     occupied_.assign(nc, 0);
     has_massless_ = false;
     most_filled_ = -1;
@@ -92,6 +96,8 @@ class Discretisation {
     for (int c = 0; c < nc; ++c) {
       for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
       double cell_mass = 0.0;
+      int pure = -1;     // the material every particle so far carries, or -1 once mixed
+      Material blended;  // the mass-weighted blend once mixed
       for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
         const int p = entries_[e];
         const double m = particles.mass[p];
@@ -101,18 +107,29 @@ class Discretisation {
         node_mass_.segment<npc>(c * npc) += m * s;
         for (int l = 0; l < dim; ++l)
           stiffness_[c * dim + l] += m * g.row(l).transpose() * s.transpose();
-        const Material& mp = materials[particles.material[p]];
-        cell_material_[c] =
-            cell_mass == 0.0 ? mp : Physics::blend(cell_material_[c], cell_mass, mp, m);
+        const int k = particles.material[p];
+        if (cell_mass == 0.0) {
+          pure = k;
+        } else if (pure < 0 || k != pure) {
+          blended =
+              Physics::blend(pure >= 0 ? materials[pure] : blended, cell_mass, materials[k], m);
+          pure = -1;
+        }
         cell_mass += m;
       }
       occupied_[c] = cell_mass > 0.0;
       if (!occupied_[c]) continue;
+      if (pure >= 0) {
+        cell_material_[c] = pure;
+      } else {
+        cell_material_[c] = static_cast<int>(table_.size());
+        table_.push_back(blended);
+      }
       set_node_sources(c, cell_mass);
-      const double fill = cell_mass / (Physics::density(cell_material_[c]) * grid.cell_volume());
+      const double fill = cell_mass / (Physics::density(cell_material(c)) * grid.cell_volume());
       if (fill > most_fill_) most_fill_ = fill, most_filled_ = c;
       if (fill_correction_) {
-        const double full = Physics::density(cell_material_[c]) * grid.cell_volume();
+        const double full = Physics::density(cell_material(c)) * grid.cell_volume();
         for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] *= full / cell_mass;
       }
     }
@@ -126,7 +143,8 @@ class Discretisation {
   int particle_cell(int p) const { return particle_cell_[p]; }
   auto particle_local(int p) const { return local_.col(p); }
   bool occupied(int c) const { return occupied_[c]; }
-  const Material& cell_material(int c) const { return cell_material_[c]; }
+  // The material of cell c's particles, mass-weighted when they carry several.
+  const Material& cell_material(int c) const { return table_[cell_material_[c]]; }
   const Stiffness& stiffness(int c, int axis) const { return stiffness_[c * dim + axis]; }
   double node_mass(int i) const { return node_mass_[i]; }
   // Mass of cell c's particles (the sum of its lumped nodal masses).
@@ -175,12 +193,13 @@ class Discretisation {
 
   std::vector<int> particle_cell_;
   Eigen::Matrix<double, dim, Eigen::Dynamic> local_;
-  std::vector<int> cell_begin_, fill_, entries_;
+  std::vector<int> cell_begin_, entries_;
   Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
   Eigen::VectorXd node_mass_, inv_mass_;
   std::vector<int> node_source_;
   std::vector<Stiffness> stiffness_;
-  std::vector<Material> cell_material_;
+  std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
+  std::vector<int> cell_material_;  // index into table_
   std::vector<char> occupied_;
   bool has_massless_ = false;
   bool fill_correction_ = false;
