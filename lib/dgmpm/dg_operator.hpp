@@ -259,8 +259,10 @@ class DGOperator {
       }
     }
   }
+  // Each thread's slots, then 128 bytes that no thread writes: two threads never write the same
+  // cache line (in 1D a thread has a single slot, written at every cell).
   std::size_t star_slots_per_thread() const {
-    std::size_t slots = 0;
+    std::size_t slots = 128 / sizeof(State) + 1;
     for (int l = 0; l < dim; ++l) slots += static_cast<std::size_t>(stride_[l]);
     return slots;
   }
