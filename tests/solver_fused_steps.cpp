@@ -7,6 +7,7 @@
 #define BOOST_TEST_MODULE solver_fused_steps
 #include <boost/test/unit_test.hpp>
 
+#include "common/loaded_scenes.hpp"
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
@@ -21,44 +22,11 @@ using nlohmann::json;
 namespace {
 
 json bar(const std::string& integrator) {
-  return {{"dimension", 1},
-          {"grid", {{"origin", {-0.1}}, {"cell_size", {0.1}}, {"cells", {70}}}},
-          {"materials",
-           {{"steel", {{"young", 2e11}, {"density", 7800}}},
-            {"soft", {{"young", 2e9}, {"density", 1000}}}}},
-          {"bodies",
-           {{{"material", "steel"},
-             {"box", {{"min", {0.0}}, {"max", {3.0}}}},
-             {"velocity", {10.0}},
-             {"particles_per_cell", 2}},
-            {{"material", "soft"},
-             {"box", {{"min", {3.0}}, {"max", {5.5}}}},
-             {"velocity", {-10.0}},
-             {"particles_per_cell", 1}}}},
-          {"boundaries",
-           {{"xmin", {{"type", "traction"}, {"value", {{0.0, 0.0}, {1e-4, -1e8}, {1.0, -1e8}}}}},
-            {"xmax", {{"type", "free"}}}}},
-          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}}};
+  return test::loaded_bar(70, 0.1, integrator, false);
 }
 
 json plate(const std::string& integrator) {
-  return {{"dimension", 2},
-          {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {0.25, 0.2}}, {"cells", {20, 14}}}},
-          {"materials",
-           {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}},
-            {"soft", {{"young", 2e10}, {"poisson", 0.25}, {"density", 2000}}}}},
-          {"bodies",
-           {{{"material", "steel"},
-             {"box", {{"min", {0.0, 0.0}}, {"max", {3.5, 2.4}}}},
-             {"velocity", {1.0, -2.0}},
-             {"particles_per_cell", {2, 2}}},
-            {{"material", "soft"},
-             {"box", {{"min", {3.5, 0.0}}, {"max", {4.5, 2.4}}}},
-             {"particles_per_cell", {1, 1}}}}},
-          {"boundaries",
-           {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 1e7}}, {"range", {0.0, 1.0}}}}},
-            {"ymin", {{"type", "roller"}}}}},
-          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}}};
+  return test::loaded_plate(20, 14, 0.25, 2, "dcu", integrator, false);
 }
 
 // Moves particles so that some nodes are massless (a particle on its cell's lower node along

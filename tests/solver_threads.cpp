@@ -4,6 +4,7 @@
 #define BOOST_TEST_MODULE solver_threads
 #include <boost/test/unit_test.hpp>
 
+#include "common/loaded_scenes.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
 
@@ -18,49 +19,11 @@ using nlohmann::json;
 namespace {
 
 json bar(const std::string& integrator, bool move) {
-  // 6000 cells, the bars covering part of the grid (void cells at both ends), two materials.
-  return {{"dimension", 1},
-          {"grid", {{"origin", {-0.1}}, {"cell_size", {1e-3}}, {"cells", {6000}}}},
-          {"materials",
-           {{"steel", {{"young", 2e11}, {"density", 7800}}},
-            {"soft", {{"young", 2e9}, {"density", 1000}}}}},
-          {"bodies",
-           {{{"material", "steel"},
-             {"box", {{"min", {0.0}}, {"max", {3.0}}}},
-             {"velocity", {10.0}},
-             {"particles_per_cell", 2}},
-            {{"material", "soft"},
-             {"box", {{"min", {3.0}}, {"max", {5.5}}}},
-             {"velocity", {-10.0}},
-             {"particles_per_cell", 1}}}},
-          {"boundaries",
-           {{"xmin", {{"type", "traction"}, {"value", {{0.0, 0.0}, {1e-4, -1e8}, {1.0, -1e8}}}}},
-            {"xmax", {{"type", "free"}}}}},
-          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}},
-          {"particles_move", move}};
+  return test::loaded_bar(6000, 1e-3, integrator, move);  // 6000 cells: threaded
 }
 
 json plate(const std::string& flux, const std::string& integrator, bool move) {
-  // 80 x 60 cells, the plate covering part of them, a soft inclusion, a loaded segment.
-  return {{"dimension", 2},
-          {"flux", flux},
-          {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {0.05, 0.05}}, {"cells", {80, 60}}}},
-          {"materials",
-           {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}},
-            {"soft", {{"young", 2e10}, {"poisson", 0.25}, {"density", 2000}}}}},
-          {"bodies",
-           {{{"material", "steel"},
-             {"box", {{"min", {0.0, 0.0}}, {"max", {3.5, 2.5}}}},
-             {"velocity", {1.0, -2.0}},
-             {"particles_per_cell", {1, 1}}},
-            {{"material", "soft"},
-             {"box", {{"min", {3.5, 0.0}}, {"max", {3.9, 2.5}}}},
-             {"particles_per_cell", {1, 1}}}}},
-          {"boundaries",
-           {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 0.0}}, {"range", {0.0, 1.0}}}}},
-            {"ymin", {{"type", "roller"}}}}},
-          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}},
-          {"particles_move", move}};
+  return test::loaded_plate(80, 60, 0.05, 1, flux, integrator, move);  // 4800 cells: threaded
 }
 
 // Particle states and positions after `steps` steps on `threads` threads.

@@ -1,0 +1,62 @@
+#pragma once
+// Scenes with most of what a step must handle: loads, void cells, two materials (the threads and
+// fused-step tests step them two ways and compare).
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace dgmpm::test {
+
+// Two bars (steel at 2 particles per cell, a soft one at 1) covering part of a grid of `cells`
+// cells of size h from x = -0.1 (void cells at both ends), a traction table on the left end, a
+// free right end.
+inline nlohmann::json loaded_bar(int cells, double h, const std::string& integrator, bool move) {
+  return {{"dimension", 1},
+          {"grid", {{"origin", {-0.1}}, {"cell_size", {h}}, {"cells", {cells}}}},
+          {"materials",
+           {{"steel", {{"young", 2e11}, {"density", 7800}}},
+            {"soft", {{"young", 2e9}, {"density", 1000}}}}},
+          {"bodies",
+           {{{"material", "steel"},
+             {"box", {{"min", {0.0}}, {"max", {3.0}}}},
+             {"velocity", {10.0}},
+             {"particles_per_cell", 2}},
+            {{"material", "soft"},
+             {"box", {{"min", {3.0}}, {"max", {5.5}}}},
+             {"velocity", {-10.0}},
+             {"particles_per_cell", 1}}}},
+          {"boundaries",
+           {{"xmin", {{"type", "traction"}, {"value", {{0.0, 0.0}, {1e-4, -1e8}, {1.0, -1e8}}}}},
+            {"xmax", {{"type", "free"}}}}},
+          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}},
+          {"particles_move", move}};
+}
+
+// A steel plate with a soft inclusion on a grid of nx x ny square cells of size h (the bodies
+// cover part of it), `ppc` x `ppc` particles per cell in the steel, a normal and shear traction
+// on the lower metre of the left edge, a roller bottom edge.
+inline nlohmann::json loaded_plate(int nx, int ny, double h, int ppc, const std::string& flux,
+                                   const std::string& integrator, bool move) {
+  return {{"dimension", 2},
+          {"flux", flux},
+          {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {h, h}}, {"cells", {nx, ny}}}},
+          {"materials",
+           {{"steel", {{"young", 2e11}, {"poisson", 0.3}, {"density", 7800}}},
+            {"soft", {{"young", 2e10}, {"poisson", 0.25}, {"density", 2000}}}}},
+          {"bodies",
+           {{{"material", "steel"},
+             {"box", {{"min", {0.0, 0.0}}, {"max", {3.5, 2.5}}}},
+             {"velocity", {1.0, -2.0}},
+             {"particles_per_cell", {ppc, ppc}}},
+            {{"material", "soft"},
+             {"box", {{"min", {3.5, 0.0}}, {"max", {3.9, 2.5}}}},
+             {"particles_per_cell", {1, 1}}}}},
+          {"boundaries",
+           {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 1e7}}, {"range", {0.0, 1.0}}}}},
+            {"ymin", {{"type", "roller"}}}}},
+          {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}},
+          {"particles_move", move}};
+}
+
+}  // namespace dgmpm::test
