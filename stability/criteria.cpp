@@ -229,7 +229,7 @@ struct TorusResolution {
   std::size_t refined;  // local maxima refined by a simplex
 };
 constexpr TorusResolution kFine{16, 16, true, 4};
-constexpr TorusResolution kCoarse{3, 4, false, 0};
+constexpr TorusResolution kCoarse{2, 4, false, 0};
 constexpr double kSmall2D = 0.05;
 constexpr double kLine2D = 1e-3;
 constexpr double kNone = -std::numeric_limits<double>::infinity();

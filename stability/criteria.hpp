@@ -82,7 +82,7 @@ class L2Criterion {
   // stop_above (2D): a caller that only needs to know whether the margin exceeds it may get, when
   // it does, a value above it that is not the maximum (cheaper: refinements are skipped).
   L2Margin margin(double courant, double stop_above = std::numeric_limits<double>::infinity());
-  // 2D: the margin on a 4 x 8 scan of the half torus and 4 rays, without slopes or refinement
+  // 2D: the margin on a 3 x 4 scan of the half torus (spacing pi / 2) and 4 rays, without slopes
   // (what the search scans C with; 1D: margin).
   L2Margin coarse_margin(double courant,
                          double stop_above = std::numeric_limits<double>::infinity());
