@@ -175,8 +175,7 @@ void Simulation<Physics>::warn_if_above_admissible() {
       return;
     }
   }
-  const auto limit =
-      time_control_->smallest_admissible(disc, problem_.particles, problem_.grid.cell_volume());
+  const auto limit = time_control_->smallest_admissible(disc, problem_.particles);
   if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
   std::ostringstream s;
   s << "Courant number " << scene_.time.courant << " is above the admissible "
@@ -198,13 +197,12 @@ void Simulation<Physics>::warn_if_above_admissible() {
 // the scene asks for the fill correction, which removes the cause).
 template <class Physics>
 void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
-  // The rebuild found the most filled cell (no pass over the cells here).
+  // The rebuild found the first over-full cell (no pass over the cells here).
   const auto& disc = stepper_->discretisation();
-  const double fill = disc.most_fill();
-  if (fill <= 1 + 1e-6) return;
+  const int c = disc.first_overfull_cell();
+  if (c < 0) return;
   std::ostringstream s;
-  s << format_step(step, t) << ": cell " << disc.most_filled_cell() << " holds "
-    << std::setprecision(6) << fill
+  s << format_step(step, t) << ": cell " << c << " holds " << std::setprecision(6) << disc.fill(c)
     << " times a full cell's mass; the operators do not preserve constant states in an "
        "over-full cell, so new extrema can appear whatever the time step (\"fill_correction\": "
        "true restores them)";

@@ -78,12 +78,12 @@ class TimeStepControl : public LayoutQuantisation {
 
   // Time step of the current configuration. Fixed Courant: C h / max c over occupied cells.
   double time_step(const Grid<dim>& grid, const Disc& disc, const ParticleSet& particles) {
-    const double h = grid.cell_size.minCoeff(), volume = grid.cell_volume();
+    const double h = grid.cell_size.minCoeff();
     double dt = std::numeric_limits<double>::infinity();
     for (int c = 0; c < disc.num_cells(); ++c) {
       if (!disc.occupied(c)) continue;
       const double speed = Physics::max_wave_speed(disc.cell_material(c));
-      const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c, volume) : courant_;
+      const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c) : courant_;
       dt = std::min(dt, cs * h / speed);
     }
     return dt;
@@ -97,14 +97,13 @@ class TimeStepControl : public LayoutQuantisation {
     double fill = 1;
     stability::CellLayout layout;
   };
-  Limit smallest_admissible(const Disc& disc, const ParticleSet& particles, double cell_volume) {
+  Limit smallest_admissible(const Disc& disc, const ParticleSet& particles) {
     Limit limit;
     limit.courant = std::numeric_limits<double>::infinity();
     for (int c = 0; c < disc.num_cells(); ++c) {
       if (!disc.occupied(c)) continue;
-      const double cs = cell_courant(disc, particles, c, cell_volume);
-      if (cs < limit.courant)
-        limit = {cs, c, fill(disc, c, cell_volume), layout_of(disc, particles, c)};
+      const double cs = cell_courant(disc, particles, c);
+      if (cs < limit.courant) limit = {cs, c, disc.fill(c), layout_of(disc, particles, c)};
     }
     return limit;
   }
@@ -136,8 +135,8 @@ class TimeStepControl : public LayoutQuantisation {
 
   // Admissible Courant number of cell c's layout, through the cache (no allocation on a hit),
   // times min(1, fill).
-  double cell_courant(const Disc& disc, const ParticleSet& particles, int c, double cell_volume) {
-    const double small_cell = std::min(1.0, fill(disc, c, cell_volume));
+  double cell_courant(const Disc& disc, const ParticleSet& particles, int c) {
+    const double small_cell = std::min(1.0, disc.fill(c));
     const bool lone = disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_;
     if (lone && lone_particle_courant_ > 0.0)
       return small_cell * lone_particle_courant_;  // the common case, without building a key
@@ -150,11 +149,6 @@ class TimeStepControl : public LayoutQuantisation {
     cache_.emplace(key_, courant);
     if (lone && dim == 1) lone_particle_courant_ = courant;  // 2D: one entry per Poisson ratio
     return small_cell * courant;
-  }
-
-  // Mass of cell c's particles over rho times the cell's volume.
-  static double fill(const Disc& disc, int c, double cell_volume) {
-    return disc.cell_mass(c) / (Physics::density(disc.cell_material(c)) * cell_volume);
   }
 
  private:

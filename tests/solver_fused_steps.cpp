@@ -52,7 +52,6 @@ double largest_difference(const json& doc, int steps) {
   Stepper<Physics> stepper(problem.grid, problem.boundaries, options);
   stepper.rebuild(problem.particles, problem.materials);
   const auto& op = stepper.op();
-  BOOST_TEST_REQUIRE(op.fused());
   const auto& disc = stepper.discretisation();
   BOOST_TEST_REQUIRE(disc.has_massless_nodes());
   int empty = 0;

@@ -92,17 +92,22 @@ class DGOperator {
     }
   }
 
-  // --- Fused stages (DCU): one pass over the cells after the projection, each cell computing
-  // its whole residual (volume term and its own faces' fluxes, each face's star state computed
-  // from both sides by each of its two cells, identically) and its update; no nodal residual
-  // array, no clearing pass. The same sums in the same order as residual() + update(), so the
-  // same values to the last bit (tests/lib_fused_steps.cpp).
-  bool fused() const {
-    return scheme_ == FluxScheme::dcu;
-  }
+  // --- The stages the integrators step through. DCU runs them fused: one pass over the cells
+  // after the projection, each cell computing its whole residual (volume term and its faces'
+  // fluxes, each interior face's Riemann problem solved once, by the first of its two cells a
+  // thread reaches) and its update; no nodal residual array, no clearing pass. The sums are those
+  // of residual() + update() in the same order: the same values to the last bit
+  // (tests/solver_fused_steps.cpp). CTU composes residual() and update() (its transverse
+  // corrections couple a face to its cells' other faces), with a residual array of its own.
 
   // Euler: qp of each cell's particles = interpolation of q + dt M^-1 r(q, t).
   void advance_to_particles(const NodalField& q, double t, double dt, ParticleField& qp) const {
+    if (scheme_ == FluxScheme::ctu) {
+      scratch_ = q;
+      composed_update(scratch_, t, dt);
+      interpolate(scratch_, qp);
+      return;
+    }
     for_each_occupied_cell([&](int c, const Sweep& sweep) {
       CellBlock out;
       advance_cell(c, q, t, dt, sweep, out);
@@ -112,6 +117,11 @@ class DGOperator {
 
   // RK2's first stage: next = q + dt M^-1 r(q, t) on every occupied cell.
   void advance(const NodalField& q, double t, double dt, NodalField& next) const {
+    if (scheme_ == FluxScheme::ctu) {
+      next = q;
+      composed_update(next, t, dt, &q);
+      return;
+    }
     next.resize(ncomp, num_nodes());
     for_each_occupied_cell([&](int c, const Sweep& sweep) {
       CellBlock out;
@@ -123,6 +133,13 @@ class DGOperator {
   // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2.
   void average_to_particles(const NodalField& q0, const NodalField& q1, double t, double dt,
                             ParticleField& qp) const {
+    if (scheme_ == FluxScheme::ctu) {
+      scratch_ = q1;
+      composed_update(scratch_, t, dt, &q1);
+      scratch_ = 0.5 * (q0 + scratch_);
+      interpolate(scratch_, qp);
+      return;
+    }
     for_each_occupied_cell([&](int c, const Sweep& sweep) {
       CellBlock out;
       advance_cell(c, q1, t, dt, sweep, out);
@@ -212,6 +229,12 @@ class DGOperator {
  private:
   using CellBlock = Eigen::Matrix<double, ncomp, npc>;
 
+  // q += dt M^-1 r(from, t), from = q unless given (CTU's stages).
+  void composed_update(NodalField& q, double t, double dt, const NodalField* from = nullptr) const {
+    residual(from ? *from : q, t, dt, residual_);
+    update(q, residual_, dt);
+  }
+
   template <class Block>
   void interpolate_cell(int c, const Block& block, ParticleField& qp) const {
     for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)
@@ -286,18 +309,15 @@ class DGOperator {
         const int f = cell_faces_[l][2 * c + up];
         const auto [cm, cp] = face_cells_[l][f];
         const int o = up ? cp : cm;
-        const State mine = edge_average(q, l, up);
         State star;
         State& slot = sweep.stars[l][sweep.slot[l]];  // o = c - stride_l shares it
         if (!up && o == c - stride_[l] && o >= sweep.begin && occupied(o)) {
           star = slot;  // solved by o, as its upper face, just before
-        } else if (occupied(o)) {
-          const State theirs = edge_state(qn, o, l, !up);
-          const auto& mat_o = disc_.cell_material(o);
-          star = up ? Physics::riemann(l, mine, mat, theirs, mat_o)
-                    : Physics::riemann(l, theirs, mat_o, mine, mat);
         } else {
-          star = boundary_star(l, f, mine, mat, up, t);
+          const State mine = edge_average(q, l, up);
+          const State theirs = occupied(o) ? edge_state(qn, o, l, !up) : State::Zero();
+          const State* other = occupied(o) ? &theirs : nullptr;
+          star = up ? star_of(l, f, &mine, other, t) : star_of(l, f, other, &mine, t);
         }
         if (up) slot = star;
         const State fl = w * Physics::flux(l, star, mat);
@@ -477,19 +497,25 @@ class DGOperator {
     return c >= 0 && disc_.occupied(c);
   }
 
+  // Star state of face f along l from the edge states of its sides: the minus cell's upper edge
+  // and the plus cell's lower edge, nullptr for a side without particles (not both).
+  [[gnu::always_inline]] inline State star_of(int l, int f, const State* minus, const State* plus,
+                                              double t) const {
+    const auto [cm, cp] = face_cells_[l][f];
+    if (minus && plus)
+      return Physics::riemann(l, *minus, disc_.cell_material(cm), *plus, disc_.cell_material(cp));
+    if (minus) return boundary_star(l, f, *minus, disc_.cell_material(cm), 1, t);
+    return boundary_star(l, f, *plus, disc_.cell_material(cp), 0, t);
+  }
+
   // Star state of face f along l; false when neither side is occupied.
   bool face_star(int l, int f, const NodalField& qn, double t, State& star) const {
     const auto [cm, cp] = face_cells_[l][f];
     const bool here = occupied(cm), there = occupied(cp);
-    if (here && there) {
-      star = Physics::riemann(l, edge_state(qn, cm, l, 1), disc_.cell_material(cm),
-                              edge_state(qn, cp, l, 0), disc_.cell_material(cp));
-    } else if (here || there) {
-      const int c = here ? cm : cp, side = here ? 1 : 0;
-      star = boundary_star(l, f, edge_state(qn, c, l, side), disc_.cell_material(c), side, t);
-    } else {
-      return false;
-    }
+    if (!here && !there) return false;
+    const State minus = here ? edge_state(qn, cm, l, 1) : State::Zero();
+    const State plus = there ? edge_state(qn, cp, l, 0) : State::Zero();
+    star = star_of(l, f, here ? &minus : nullptr, there ? &plus : nullptr, t);
     return true;
   }
 
@@ -569,8 +595,10 @@ class DGOperator {
   std::vector<FaceCondition> conditions_;
   std::vector<std::pair<const Table*, double>> parts_;
   std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity
-  // CTU only: star states and transverse corrections of the faces of each axis.
+  // CTU only: star states and transverse corrections of the faces of each axis; the residual and
+  // a stage's nodal values.
   mutable std::array<NodalField, dim> star_, correction_;
+  mutable NodalField residual_, scratch_;
   // Fused stages: cell index stride along each axis, and each thread's upper-face star states.
   std::array<int, dim> stride_{};
   mutable std::vector<State> star_cache_;

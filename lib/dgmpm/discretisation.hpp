@@ -39,6 +39,7 @@ class Discretisation {
   using Shape = CellShape<dim>;
   using Stiffness = Eigen::Matrix<double, npc, npc>;
   static constexpr double massless_share = 1e-10;
+  static constexpr double overfull_tolerance = 1e-6;  // a fill above 1 + this is over-full
 
   // Fill correction (off by default: method.md's pseudo-stiffness). A cell whose particles carry
   // m_c != rho V (moving particles piling up, a body ending inside the cell) has a volume term
@@ -67,7 +68,6 @@ class Discretisation {
       particle_cell_[p] = c;
       local_.col(p) = xi;
     }
-    ++builds_;
     if (!same_cells) {  // counting sort of the particles by cell
       ++sorts_;
       // Ends of the cells' ranges, then filled from the back: each end moves down to its begin
@@ -90,8 +90,8 @@ class Discretisation {
     table_.assign(materials.begin(), materials.end());  // this build's blends follow
     occupied_.assign(nc, 0);
     has_massless_ = false;
-    most_filled_ = -1;
-    most_fill_ = 0.0;
+    cell_volume_ = grid.cell_volume();
+    first_overfull_ = -1;
 
     for (int c = 0; c < nc; ++c) {
       for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
@@ -126,8 +126,7 @@ class Discretisation {
         table_.push_back(blended);
       }
       set_node_sources(c, cell_mass);
-      const double fill = cell_mass / (Physics::density(cell_material(c)) * grid.cell_volume());
-      if (fill > most_fill_) most_fill_ = fill, most_filled_ = c;
+      if (first_overfull_ < 0 && fill(c) > 1.0 + overfull_tolerance) first_overfull_ = c;
       if (fill_correction_) {
         const double full = Physics::density(cell_material(c)) * grid.cell_volume();
         for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] *= full / cell_mass;
@@ -147,6 +146,10 @@ class Discretisation {
   const Material& cell_material(int c) const { return table_[cell_material_[c]]; }
   const Stiffness& stiffness(int c, int axis) const { return stiffness_[c * dim + axis]; }
   double node_mass(int i) const { return node_mass_[i]; }
+  // Mass of cell c's particles over rho V (rho their material's density): 1 for a full cell.
+  double fill(int c) const {
+    return cell_mass(c) / (Physics::density(cell_material(c)) * cell_volume_);
+  }
   // Mass of cell c's particles (the sum of its lumped nodal masses).
   double cell_mass(int c) const { return node_mass_.template segment<npc>(c * npc).sum(); }
   double inverse_mass(int i) const { return inv_mass_[i]; }
@@ -156,12 +159,10 @@ class Discretisation {
   // Whether some occupied cell has a massless node (so update() has residuals to fold).
   bool has_massless_nodes() const { return has_massless_; }
   int num_particles() const { return static_cast<int>(entries_.size()); }
-  // The cell whose particles carry the most mass for its volume (m_c / (rho V), rho its
-  // material's density), and that ratio (-1 and 0 without particles).
-  int most_filled_cell() const { return most_filled_; }
-  double most_fill() const { return most_fill_; }
-  // Builds so far, and those that had to sort the particles by cell again.
-  long builds() const { return builds_; }
+  // The first cell (by index) whose fill exceeds 1 + overfull_tolerance, or -1: found by the
+  // build, so that no pass over the cells looks for it.
+  int first_overfull_cell() const { return first_overfull_; }
+  // Builds that had to sort the particles by cell (the others kept the cells' particle lists).
   long sorts() const { return sorts_; }
 
  private:
@@ -203,9 +204,9 @@ class Discretisation {
   std::vector<char> occupied_;
   bool has_massless_ = false;
   bool fill_correction_ = false;
-  int most_filled_ = -1;
-  double most_fill_ = 0.0;
-  long builds_ = 0, sorts_ = 0;
+  double cell_volume_ = 0.0;
+  int first_overfull_ = -1;
+  long sorts_ = 0;
 };
 
 }  // namespace dgmpm

@@ -21,17 +21,11 @@ class ForwardEuler {
   void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
     op.project(qp, mass, q_);
-    if (op.fused()) {
-      op.advance_to_particles(q_, t, dt, qp);
-      return;
-    }
-    op.residual(q_, t, dt, r_);
-    op.update(q_, r_, dt);
-    op.interpolate(q_, qp);
+    op.advance_to_particles(q_, t, dt, qp);
   }
 
  private:
-  typename Op::NodalField q_, r_;
+  typename Op::NodalField q_;
 };
 
 template <class Physics>
@@ -44,22 +38,12 @@ class HeunRK2 {
   void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
     op.project(qp, mass, q0_);
-    if (op.fused()) {
-      op.advance(q0_, t, dt, q1_);
-      op.average_to_particles(q0_, q1_, t + dt, dt, qp);
-      return;
-    }
-    op.residual(q0_, t, dt, r_);
-    q1_ = q0_;
-    op.update(q1_, r_, dt);
-    op.residual(q1_, t + dt, dt, r_);
-    op.update(q1_, r_, dt);
-    q0_ = 0.5 * (q0_ + q1_);
-    op.interpolate(q0_, qp);
+    op.advance(q0_, t, dt, q1_);
+    op.average_to_particles(q0_, q1_, t + dt, dt, qp);
   }
 
  private:
-  typename Op::NodalField q0_, q1_, r_;
+  typename Op::NodalField q0_, q1_;
 };
 
 }  // namespace dgmpm
