@@ -1,6 +1,6 @@
 // The step runs on OpenMP threads on large grids: one and two threads give the same particle
-// states bit for bit (1D and 2D, Euler and RK2, DCU and CTU, boundaries, void cells, two
-// materials, moving particles), and the threaded path is the one taken.
+// states bit for bit (1D and 2D, Euler and RK2, DCU and CTU, boundaries, periodic axes, void
+// cells, two materials, moving particles), and the threaded path is the one taken.
 #define BOOST_TEST_MODULE solver_threads
 #include <boost/test/unit_test.hpp>
 
@@ -65,6 +65,8 @@ BOOST_AUTO_TEST_CASE(one_dimension) {
     for (bool move : {false, true})
       same_on_one_and_two_threads<ElasticBar>(
           bar(integrator, move), std::string("1D ") + integrator + (move ? " moving" : ""));
+  same_on_one_and_two_threads<ElasticBar>(test::periodic(bar("euler", false), {true}),
+                                          "1D euler periodic");
 }
 
 BOOST_AUTO_TEST_CASE(two_dimensions) {
@@ -73,4 +75,12 @@ BOOST_AUTO_TEST_CASE(two_dimensions) {
       same_on_one_and_two_threads<PlaneStrain>(plate(flux, integrator, false),
                                                std::string("2D ") + flux + " " + integrator);
   same_on_one_and_two_threads<PlaneStrain>(plate("dcu", "rk2", true), "2D dcu rk2 moving");
+  for (const char* flux : {"dcu", "ctu"}) {
+    same_on_one_and_two_threads<PlaneStrain>(
+        test::periodic(plate(flux, "euler", false), {true, true}),
+        std::string("2D ") + flux + " periodic");
+    same_on_one_and_two_threads<PlaneStrain>(
+        test::periodic(plate(flux, "rk2", false), {true, false}),
+        std::string("2D ") + flux + " rk2 periodic along x");
+  }
 }

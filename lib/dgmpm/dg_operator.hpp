@@ -21,6 +21,7 @@
 #include "grid.hpp"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #ifdef _OPENMP
 #include <omp.h>
@@ -63,10 +64,7 @@ class DGOperator {
         if (k != l) face_weight_[l] *= grid.cell_size[k];
       face_weight_[l] /= face_nodes;  // lumped edge integral: an equal share per face node
       tabulate_faces(l, boundaries);
-      if (scheme_ == FluxScheme::ctu) {
-        star_[l].resize(ncomp, num_faces(l));
-        correction_[l].resize(ncomp, num_faces(l));
-      }
+      if (scheme_ == FluxScheme::ctu) star_[l].resize(ncomp, num_faces(l));
     }
   }
 
@@ -92,59 +90,66 @@ class DGOperator {
     }
   }
 
-  // --- The stages the integrators step through. DCU runs them fused: one pass over the cells
-  // after the projection, each cell computing its whole residual (volume term and its faces'
-  // fluxes, each interior face's Riemann problem solved once, by the first of its two cells a
-  // thread reaches) and its update; no nodal residual array, no clearing pass. The sums are those
-  // of residual() + update() in the same order: the same values to the last bit
-  // (tests/solver_fused_steps.cpp). CTU composes residual() and update() (its transverse
-  // corrections couple a face to its cells' other faces), with a residual array of its own.
+  // --- The stages the integrators step through. DCU runs each stage as one pass over the cells:
+  // a cell is projected just before the first cell whose faces need its values (one layer of
+  // cells ahead: `reach` below), and each cell computes its whole residual (volume term and its
+  // faces' fluxes, each interior face's Riemann problem solved once, by the first of its two cells
+  // a thread reaches) and its update, then its particles; no nodal residual array, no clearing
+  // pass. The sums are those of residual() + update() in the same order: the same values to the
+  // last bit (tests/solver_fused_steps.cpp). CTU composes project(), residual() and update() (its
+  // transverse corrections couple a face to its cells' other faces), with a residual array of
+  // its own. Stages that write particles return whether every new state is finite.
 
-  // Euler: qp of each cell's particles = interpolation of q + dt M^-1 r(q, t).
-  void advance_to_particles(const NodalField& q, double t, double dt, ParticleField& qp) const {
+  // Euler: q = projection of qp, then qp of each cell = interpolation of q + dt M^-1 r(q, t).
+  bool project_and_advance_to_particles(ParticleField& qp, const Eigen::VectorXd& mass, double t,
+                                        double dt, NodalField& q) const {
     if (scheme_ == FluxScheme::ctu) {
-      scratch_ = q;
-      composed_update(scratch_, t, dt);
-      interpolate(scratch_, qp);
-      return;
+      project(qp, mass, q);
+      composed_update(q, t, dt);
+      return interpolate(q, qp);
     }
-    for_each_occupied_cell([&](int c, const Sweep& sweep) {
+    q.resize(ncomp, num_nodes());
+    return sweep_cells(Projection{&qp, &mass, &q}, [&](int c, Sweep& sweep) {
       CellBlock out;
       advance_cell(c, q, t, dt, sweep, out);
       interpolate_cell(c, out, qp);
+      sweep.check(out);
     });
   }
 
-  // RK2's first stage: next = q + dt M^-1 r(q, t) on every occupied cell.
-  void advance(const NodalField& q, double t, double dt, NodalField& next) const {
+  // RK2's first stage: q0 = projection of qp, q1 = q0 + dt M^-1 r(q0, t) on every occupied cell.
+  void project_and_advance(const ParticleField& qp, const Eigen::VectorXd& mass, double t,
+                           double dt, NodalField& q0, NodalField& q1) const {
     if (scheme_ == FluxScheme::ctu) {
-      next = q;
-      composed_update(next, t, dt, &q);
+      project(qp, mass, q0);
+      q1 = q0;
+      composed_update(q1, t, dt, &q0);
       return;
     }
-    next.resize(ncomp, num_nodes());
-    for_each_occupied_cell([&](int c, const Sweep& sweep) {
+    q0.resize(ncomp, num_nodes());
+    q1.resize(ncomp, num_nodes());
+    sweep_cells(Projection{&qp, &mass, &q0}, [&](int c, Sweep& sweep) {
       CellBlock out;
-      advance_cell(c, q, t, dt, sweep, out);
-      next.template middleCols<npc>(c * npc) = out;
+      advance_cell(c, q0, t, dt, sweep, out);
+      q1.template middleCols<npc>(c * npc) = out;
     });
   }
 
   // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2.
-  void average_to_particles(const NodalField& q0, const NodalField& q1, double t, double dt,
+  bool average_to_particles(const NodalField& q0, const NodalField& q1, double t, double dt,
                             ParticleField& qp) const {
     if (scheme_ == FluxScheme::ctu) {
       scratch_ = q1;
       composed_update(scratch_, t, dt, &q1);
       scratch_ = 0.5 * (q0 + scratch_);
-      interpolate(scratch_, qp);
-      return;
+      return interpolate(scratch_, qp);
     }
-    for_each_occupied_cell([&](int c, const Sweep& sweep) {
+    return sweep_cells(Projection{}, [&](int c, Sweep& sweep) {
       CellBlock out;
       advance_cell(c, q1, t, dt, sweep, out);
       out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
       interpolate_cell(c, out, qp);
+      sweep.check(out);
     });
   }
 
@@ -195,12 +200,18 @@ class DGOperator {
     }
   }
 
-  void interpolate(const NodalField& qn, ParticleField& qp) const {
-#pragma omp parallel for schedule(static) if (threaded())
+  // Returns whether every interpolated state is finite (a convex combination of finite nodal
+  // values is finite: the nodal values are checked).
+  bool interpolate(const NodalField& qn, ParticleField& qp) const {
+    bool finite = true;
+#pragma omp parallel for schedule(static) reduction(&& : finite) if (threaded())
     for (int c = 0; c < disc_.num_cells(); ++c) {
       if (!disc_.occupied(c)) continue;
-      interpolate_cell(c, qn.template middleCols<npc>(c * npc), qp);
+      const auto block = qn.template middleCols<npc>(c * npc);
+      interpolate_cell(c, block, qp);
+      finite = finite && block.allFinite();
     }
+    return finite;
   }
 
   // Power delivered to the particles by the prescribed boundary loads at time t: the sum over
@@ -248,18 +259,39 @@ class DGOperator {
     int begin = 0;
     std::array<State*, dim> stars{};
     std::array<int, dim> slot{};  // c mod stride_l, kept by the loop (no division per cell)
+    // 0 * x is 0 for finite x, NaN otherwise: summed over the checked blocks, without a branch.
+    CellBlock nonfinite = CellBlock::Zero();
+    void check(const CellBlock& block) { nonfinite += 0.0 * block; }
   };
 
+  // Particles projected by a sweep on the fly (none when qp is null).
+  struct Projection {
+    const ParticleField* qp = nullptr;
+    const Eigen::VectorXd* mass = nullptr;
+    NodalField* q = nullptr;
+  };
+
+  // Calls body(c, sweep) on every occupied cell, on threads over contiguous ranges of cells;
+  // returns whether every block the bodies checked (Sweep::check) is finite. With a projection,
+  // each cell is projected before its neighbours' bodies run: the cells a face links are at most
+  // `reach` apart in index (the largest stride; a periodic wrap links a range's first and last
+  // cells), so each thread first projects its range's first and last `reach` (at least that) cells
+  // (the only ones another thread reads), waits for the others, then projects c + reach before the
+  // body of c.
   template <class Body>
-  void for_each_occupied_cell(Body&& body) const {
+  bool sweep_cells(const Projection& projection, Body&& body) const {
     const int n = disc_.num_cells();
+    // Projecting a few cells further than needed keeps the body's loads away from the
+    // projection's pending stores (in 1D they would be the next cell's).
+    const int reach = stride_[dim - 1] + 16;
     int threads = 1;
 #ifdef _OPENMP
     if (threaded()) threads = omp_get_max_threads();
 #endif
     const std::size_t per_thread = star_slots_per_thread();
     if (star_cache_.size() < per_thread * threads) star_cache_.resize(per_thread * threads);
-#pragma omp parallel num_threads(threads) if (threads > 1)
+    bool finite = true;
+#pragma omp parallel num_threads(threads) if (threads > 1) reduction(&& : finite)
     {
       int thread = 0, team = 1;
 #ifdef _OPENMP
@@ -269,6 +301,20 @@ class DGOperator {
       Sweep sweep;
       sweep.begin = static_cast<int>(static_cast<long>(n) * thread / team);
       const int end = static_cast<int>(static_cast<long>(n) * (thread + 1) / team);
+      const auto project_one = [&](int c) {
+        if (disc_.occupied(c))
+          project_cell(c, *projection.qp, *projection.mass,
+                       projection.q->template middleCols<npc>(c * npc));
+      };
+      // Cells [ahead_begin, ahead_end) are projected during the sweep, the others before it.
+      int ahead_begin = sweep.begin, ahead_end = sweep.begin;
+      if (projection.qp) {
+        ahead_begin = std::min(sweep.begin + reach, end);
+        ahead_end = std::max(end - reach, ahead_begin);
+        for (int c = sweep.begin; c < ahead_begin; ++c) project_one(c);
+        for (int c = ahead_end; c < end; ++c) project_one(c);
+#pragma omp barrier
+      }
       State* slots = star_cache_.data() + per_thread * thread;
       for (int l = 0; l < dim; ++l) {
         sweep.stars[l] = slots;
@@ -276,11 +322,14 @@ class DGOperator {
       }
       for (int l = 0; l < dim; ++l) sweep.slot[l] = sweep.begin % stride_[l];
       for (int c = sweep.begin; c < end; ++c) {
+        if (c + reach >= ahead_begin && c + reach < ahead_end) project_one(c + reach);
         if (disc_.occupied(c)) body(c, sweep);
         for (int l = 0; l < dim; ++l)
           if (++sweep.slot[l] == stride_[l]) sweep.slot[l] = 0;
       }
+      finite = sweep.nonfinite.allFinite();
     }
+    return finite;
   }
   // Each thread's slots, then 128 bytes that no thread writes: two threads never write the same
   // cache line (in 1D a thread has a single slot, written at every cell).
@@ -536,53 +585,59 @@ class DGOperator {
     }
   }
 
+  // CTU in two passes over the faces, each on threads: the star states of every axis, then each
+  // face's flux from its star state plus its transverse correction, gathered (not scattered) from
+  // the fluctuations entering its two cells: every sum in a fixed order, whatever the threads.
   void ctu_fluxes(const NodalField& qn, double t, double dt, NodalField& r) const {
-    for (int l = 0; l < dim; ++l) correction_[l].setZero();
     for (int l = 0; l < dim; ++l) {
-      const double k = dt / (2.0 * grid_.cell_size[l]);
+#pragma omp parallel for schedule(static) if (threaded())
       for (int f = 0; f < num_faces(l); ++f) {
         State star;
-        if (!face_star(l, f, qn, t, star)) {
-          star_[l].col(f).setZero();
-          continue;
-        }
+        if (!face_star(l, f, qn, t, star)) star.setZero();
         star_[l].col(f) = star;
-        const auto [cm, cp] = face_cells_[l][f];
-        if (occupied(cm)) {
-          const auto& mat = disc_.cell_material(cm);
-          spread_transverse(cm, l,
-                            k * Physics::fluctuation(l, star, edge_state(qn, cm, l, 1), mat, 0));
-        }
-        if (occupied(cp)) {
-          const auto& mat = disc_.cell_material(cp);
-          spread_transverse(cp, l,
-                            k * Physics::fluctuation(l, star, edge_state(qn, cp, l, 0), mat, 1));
-        }
       }
     }
-    for (int l = 0; l < dim; ++l)
-      for (int f = 0; f < num_faces(l); ++f)
-        distribute(l, f, State(star_[l].col(f) + correction_[l].col(f)), r);
+    for (int l = 0; l < dim; ++l) {
+#pragma omp parallel for schedule(static) if (threaded())
+      for (int f = 0; f < num_faces(l); ++f) {
+        const auto [cm, cp] = face_cells_[l][f];
+        if (occupied(cm) || occupied(cp))
+          distribute(l, f, State(star_[l].col(f) + transverse_correction(l, f, qn, dt)), r);
+      }
+    }
   }
 
-  // A fluctuation w (already times dt / (2 h)) that entered cell c through a face normal to l:
-  // its transverse waves correct c's edges along every other axis.
-  void spread_transverse(int c, int l, const State& w) const {
-    const auto& mat = disc_.cell_material(c);
-    for (int t = 0; t < dim; ++t) {
-      if (t == l) continue;
-      for (int up = 0; up < 2; ++up) {
-        const int g = cell_faces_[t][2 * c + up];
-        const int o = up ? face_cells_[t][g].second : face_cells_[t][g].first;
-        if (occupied(o)) {
-          correction_[t].col(g) -= Physics::transverse(t, w, mat, disc_.cell_material(o), up);
-        } else {
-          const State mirrored = Physics::reflect(mirror_kind(t, g), t, w);
-          correction_[t].col(g) -= Physics::transverse(t, w, mat, mat, up) +
-                                   Physics::transverse(t, mirrored, mat, mat, !up);
+  // The correction of face g normal to t: each fluctuation (times dt / (2 h)) that entered one of
+  // g's cells through a face normal to another axis sends transverse waves across g. Against a
+  // boundary (grid side or void cell) the mirror image of the cell sends its part back in.
+  State transverse_correction(int t, int g, const NodalField& qn, double dt) const {
+    State correction = State::Zero();
+    const auto [gm, gp] = face_cells_[t][g];
+    for (int up = 1; up >= 0;
+         --up) {  // g is the upper face of its minus cell, the lower of its plus
+      const int c = up ? gm : gp, o = up ? gp : gm;
+      if (!occupied(c)) continue;
+      const auto& mat = disc_.cell_material(c);
+      for (int l = 0; l < dim; ++l) {
+        if (l == t) continue;
+        const double k = dt / (2.0 * grid_.cell_size[l]);
+        for (int side = 0; side < 2; ++side) {
+          // c's face on `side` along l: c is its plus cell (fluctuation A^+dq) when it is c's
+          // lower.
+          const int f = cell_faces_[l][2 * c + side];
+          const State w = k * Physics::fluctuation(l, star_[l].col(f), edge_state(qn, c, l, side),
+                                                   mat, side == 0);
+          if (occupied(o)) {
+            correction -= Physics::transverse(t, w, mat, disc_.cell_material(o), up);
+          } else {
+            const State mirrored = Physics::reflect(mirror_kind(t, g), t, w);
+            correction -= Physics::transverse(t, w, mat, mat, up) +
+                          Physics::transverse(t, mirrored, mat, mat, !up);
+          }
         }
       }
     }
+    return correction;
   }
 
   const Grid<dim>& grid_;
@@ -595,9 +650,8 @@ class DGOperator {
   std::vector<FaceCondition> conditions_;
   std::vector<std::pair<const Table*, double>> parts_;
   std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity
-  // CTU only: star states and transverse corrections of the faces of each axis; the residual and
-  // a stage's nodal values.
-  mutable std::array<NodalField, dim> star_, correction_;
+  // CTU only: star states of the faces of each axis; the residual and a stage's nodal values.
+  mutable std::array<NodalField, dim> star_;
   mutable NodalField residual_, scratch_;
   // Fused stages: cell index stride along each axis, and each thread's upper-face star states.
   std::array<int, dim> stride_{};

@@ -48,8 +48,10 @@ class Stepper {
     if (!op_) op_.emplace(grid_, disc_, boundaries_, options_.flux);
   }
 
-  void step(typename Op::ParticleField& q, const Eigen::VectorXd& mass, double t, double dt) {
-    std::visit([&](auto& integrator) { integrator.step(*op_, q, mass, t, dt); }, integrator_);
+  // Returns whether every new particle state is finite (checked as the stage writes them).
+  bool step(typename Op::ParticleField& q, const Eigen::VectorXd& mass, double t, double dt) {
+    return std::visit([&](auto& integrator) { return integrator.step(*op_, q, mass, t, dt); },
+                      integrator_);
   }
 
   const StepperOptions& options() const { return options_; }

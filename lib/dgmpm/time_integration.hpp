@@ -18,10 +18,10 @@ class ForwardEuler {
   using Op = DGOperator<Physics>;
   static constexpr const char* name = "euler";
 
-  void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
+  // Returns whether every new particle state is finite.
+  bool step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
-    op.project(qp, mass, q_);
-    op.advance_to_particles(q_, t, dt, qp);
+    return op.project_and_advance_to_particles(qp, mass, t, dt, q_);
   }
 
  private:
@@ -35,11 +35,10 @@ class HeunRK2 {
   static constexpr const char* name = "rk2";
 
   // q1 = q0 + dt L(q0, t); q^{n+1} = (q0 + q1 + dt L(q1, t + dt)) / 2.
-  void step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
+  bool step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
-    op.project(qp, mass, q0_);
-    op.advance(q0_, t, dt, q1_);
-    op.average_to_particles(q0_, q1_, t + dt, dt, qp);
+    op.project_and_advance(qp, mass, t, dt, q0_, q1_);
+    return op.average_to_particles(q0_, q1_, t + dt, dt, qp);
   }
 
  private:

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace dgmpm::test {
 
@@ -57,6 +58,16 @@ inline nlohmann::json loaded_plate(int nx, int ny, double h, int ppc, const std:
             {"ymin", {{"type", "roller"}}}}},
           {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.4}}},
           {"particles_move", move}};
+}
+
+// The scene with the grid periodic along the axes marked true, their boundaries removed.
+inline nlohmann::json periodic(nlohmann::json doc, const std::vector<bool>& axes) {
+  const char* sides[3][2] = {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}};
+  for (std::size_t a = 0; a < axes.size(); ++a)
+    if (axes[a] && doc.contains("boundaries"))
+      for (const char* side : sides[a]) doc["boundaries"].erase(side);
+  doc["grid"]["periodic"] = axes.size() == 1 ? nlohmann::json(bool(axes[0])) : nlohmann::json(axes);
+  return doc;
 }
 
 }  // namespace dgmpm::test

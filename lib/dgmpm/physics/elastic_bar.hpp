@@ -15,19 +15,21 @@ struct ElasticBar {
   using State = Eigen::Matrix<double, n_comp, 1>;
   enum Component { stress = 0, velocity = 1 };
 
-  // Immutable once built: the wave speed and impedance are computed once, not at every face.
+  // Immutable once built: the wave speed, impedance and E / rho are computed once, not at every
+  // face or node (a division in the volume term costs more than the rest of it).
   class Material {
    public:
     Material() : Material(1.0, 1.0) {}
     Material(double young, double density)
         : young(young), density(density), c_(std::sqrt(young / density)),
-          z_(std::sqrt(young * density)) {}
+          z_(std::sqrt(young * density)), specific_modulus_(young / density) {}
     double young, density;
     double wave_speed() const { return c_; }
     double impedance() const { return z_; }
+    double specific_modulus() const { return specific_modulus_; }  // E / rho
 
    private:
-    double c_, z_;
+    double c_, z_, specific_modulus_;
   };
 
   // Mass-weighted blend, for cells holding particles of several materials.
@@ -47,7 +49,7 @@ struct ElasticBar {
 
   // Specific flux F^s = F / rho along the axis.
   static State specific_flux(int /*axis*/, const State& q, const Material& m) {
-    return {-(m.young / m.density) * q[1], -q[0]};
+    return {-m.specific_modulus() * q[1], -q[0]};
   }
 
   static State physical(const State& q, const Material& m) { return {q[0] * m.density, q[1]}; }
@@ -92,7 +94,7 @@ struct ElasticBar {
   template <class Q>
   static void add_stress_rate(Q&& q, const Eigen::Matrix<double, 1, 1>& grad_v, const Material& m,
                               double dt) {
-    q[0] += dt * (m.young / m.density) * grad_v(0, 0);
+    q[0] += dt * m.specific_modulus() * grad_v(0, 0);
   }
 
   // Energy per unit mass: kinetic v^2 / 2, elastic sigma^2 / (2 E rho) = s^2 rho / (2 E).

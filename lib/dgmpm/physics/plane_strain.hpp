@@ -38,7 +38,8 @@ struct PlaneStrain {
   static constexpr int normal_velocity(int axis) { return vx + axis; }
   static constexpr int tangential_velocity(int axis) { return vx + 1 - axis; }
 
-  // Immutable once built: wave speeds and impedances are computed once, not at every edge.
+  // Immutable once built: wave speeds, impedances and 1 / rho are computed once, not at every
+  // edge or node (a division in the volume term costs more than the rest of it).
   class Material {
    public:
     Material() : Material(1.0, 0.0, 1.0) {}
@@ -66,6 +67,7 @@ struct PlaneStrain {
     double s_speed() const { return cs_; }
     double p_impedance() const { return zp_; }
     double s_impedance() const { return zs_; }
+    double inverse_density() const { return inverse_density_; }
 
    private:
     void finish() {
@@ -73,8 +75,9 @@ struct PlaneStrain {
       cs_ = std::sqrt(mu_ / density);
       zp_ = density * cp_;
       zs_ = density * cs_;
+      inverse_density_ = 1.0 / density;
     }
-    double lambda_ = 0, mu_ = 0.5, cp_ = 1, cs_ = 1, zp_ = 1, zs_ = 1;
+    double lambda_ = 0, mu_ = 0.5, cp_ = 1, cs_ = 1, zp_ = 1, zs_ = 1, inverse_density_ = 1;
   };
 
   // Mass-weighted blend of the Lame moduli and density, for cells holding several materials.
@@ -105,7 +108,7 @@ struct PlaneStrain {
   // F^s = F / rho along `axis`.
   static State specific_flux(int axis, const State& q, const Material& m) {
     const double vn = q[normal_velocity(axis)], vt = q[tangential_velocity(axis)];
-    const double inv = 1.0 / m.density;
+    const double inv = m.inverse_density();
     State f;
     f[normal_stress(axis)] = -m.p_modulus() * inv * vn;
     f[tangential_stress(axis)] = -m.lambda() * inv * vn;
