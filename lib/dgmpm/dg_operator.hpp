@@ -64,7 +64,10 @@ class DGOperator {
         if (k != l) face_weight_[l] *= grid.cell_size[k];
       face_weight_[l] /= face_nodes;  // lumped edge integral: an equal share per face node
       tabulate_faces(l, boundaries);
-      if (scheme_ == FluxScheme::ctu) star_[l].resize(ncomp, num_faces(l));
+      if (scheme_ == FluxScheme::ctu) {
+        star_[l].resize(ncomp, num_faces(l));
+        fluctuation_[l].resize(ncomp, 2 * num_faces(l));
+      }
     }
   }
 
@@ -585,16 +588,26 @@ class DGOperator {
     }
   }
 
-  // CTU in two passes over the faces, each on threads: the star states of every axis, then each
-  // face's flux from its star state plus its transverse correction, gathered (not scattered) from
-  // the fluctuations entering its two cells: every sum in a fixed order, whatever the threads.
+  // CTU in two passes over the faces, each on threads: the star states and the fluctuations
+  // entering each side (times dt / (2 h)) of every axis, then each face's flux from its star state
+  // plus its transverse correction, gathered (not scattered) from the fluctuations that entered
+  // its two cells: every sum in a fixed order, whatever the threads.
   void ctu_fluxes(const NodalField& qn, double t, double dt, NodalField& r) const {
     for (int l = 0; l < dim; ++l) {
+      const double k = dt / (2.0 * grid_.cell_size[l]);
 #pragma omp parallel for schedule(static) if (threaded())
       for (int f = 0; f < num_faces(l); ++f) {
         State star;
         if (!face_star(l, f, qn, t, star)) star.setZero();
         star_[l].col(f) = star;
+        const auto [cm, cp] = face_cells_[l][f];
+        for (int side = 0; side < 2; ++side) {  // into the minus cell (A^-dq), the plus (A^+dq)
+          const int c = side ? cp : cm;
+          fluctuation_[l].col(2 * f + side) =
+              occupied(c) ? State(k * Physics::fluctuation(l, star, edge_state(qn, c, l, !side),
+                                                           disc_.cell_material(c), side))
+                          : State::Zero();
+        }
       }
     }
     for (int l = 0; l < dim; ++l) {
@@ -602,31 +615,27 @@ class DGOperator {
       for (int f = 0; f < num_faces(l); ++f) {
         const auto [cm, cp] = face_cells_[l][f];
         if (occupied(cm) || occupied(cp))
-          distribute(l, f, State(star_[l].col(f) + transverse_correction(l, f, qn, dt)), r);
+          distribute(l, f, State(star_[l].col(f) + transverse_correction(l, f)), r);
       }
     }
   }
 
-  // The correction of face g normal to t: each fluctuation (times dt / (2 h)) that entered one of
-  // g's cells through a face normal to another axis sends transverse waves across g. Against a
-  // boundary (grid side or void cell) the mirror image of the cell sends its part back in.
-  State transverse_correction(int t, int g, const NodalField& qn, double dt) const {
+  // The correction of face g normal to t: each fluctuation that entered one of g's cells through
+  // a face normal to another axis sends transverse waves across g. Against a boundary (grid side
+  // or void cell) the mirror image of the cell sends its part back in.
+  State transverse_correction(int t, int g) const {
     State correction = State::Zero();
     const auto [gm, gp] = face_cells_[t][g];
-    for (int up = 1; up >= 0;
-         --up) {  // g is the upper face of its minus cell, the lower of its plus
+    for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
       const int c = up ? gm : gp, o = up ? gp : gm;
       if (!occupied(c)) continue;
       const auto& mat = disc_.cell_material(c);
       for (int l = 0; l < dim; ++l) {
         if (l == t) continue;
-        const double k = dt / (2.0 * grid_.cell_size[l]);
         for (int side = 0; side < 2; ++side) {
-          // c's face on `side` along l: c is its plus cell (fluctuation A^+dq) when it is c's
-          // lower.
+          // c's face on `side` along l; c is its plus cell when it is c's lower face.
           const int f = cell_faces_[l][2 * c + side];
-          const State w = k * Physics::fluctuation(l, star_[l].col(f), edge_state(qn, c, l, side),
-                                                   mat, side == 0);
+          const State w = fluctuation_[l].col(2 * f + (side == 0));
           if (occupied(o)) {
             correction -= Physics::transverse(t, w, mat, disc_.cell_material(o), up);
           } else {
@@ -650,8 +659,10 @@ class DGOperator {
   std::vector<FaceCondition> conditions_;
   std::vector<std::pair<const Table*, double>> parts_;
   std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity
-  // CTU only: star states of the faces of each axis; the residual and a stage's nodal values.
-  mutable std::array<NodalField, dim> star_;
+  // CTU only: star states of the faces of each axis and the fluctuations entering their sides
+  // (column 2 f: into the minus cell, 2 f + 1: into the plus cell); the residual and a stage's
+  // nodal values.
+  mutable std::array<NodalField, dim> star_, fluctuation_;
   mutable NodalField residual_, scratch_;
   // Fused stages: cell index stride along each axis, and each thread's upper-face star states.
   std::array<int, dim> stride_{};

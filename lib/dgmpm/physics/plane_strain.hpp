@@ -68,6 +68,7 @@ struct PlaneStrain {
     double p_impedance() const { return zp_; }
     double s_impedance() const { return zs_; }
     double inverse_density() const { return inverse_density_; }
+    double lambda_over_p_speed() const { return lambda_over_cp_; }  // CTU's transverse waves
 
    private:
     void finish() {
@@ -76,8 +77,10 @@ struct PlaneStrain {
       zp_ = density * cp_;
       zs_ = density * cs_;
       inverse_density_ = 1.0 / density;
+      lambda_over_cp_ = lambda_ / cp_;
     }
-    double lambda_ = 0, mu_ = 0.5, cp_ = 1, cs_ = 1, zp_ = 1, zs_ = 1, inverse_density_ = 1;
+    double lambda_ = 0, mu_ = 0.5, cp_ = 1, cs_ = 1, zp_ = 1, zs_ = 1, inverse_density_ = 1,
+           lambda_over_cp_ = 0;
   };
 
   // Mass-weighted blend of the Lame moduli and density, for cells holding several materials.
@@ -187,7 +190,7 @@ struct PlaneStrain {
     State r;
     r[vn] = bp;
     r[nn] = sign * zpt * bp;
-    r[tt] = sign * there.lambda() / there.p_speed() * bp;
+    r[tt] = sign * there.lambda_over_p_speed() * bp;
     r[vt] = bs;
     r[sxy] = sign * zst * bs;
     return r;
