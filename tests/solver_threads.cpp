@@ -1,10 +1,12 @@
 // The step runs on OpenMP threads on large grids: one and two threads give the same particle
 // states bit for bit (1D and 2D, Euler and RK2, DCU and CTU, boundaries, periodic axes, void
-// cells, two materials, moving particles), and the threaded path is the one taken.
+// cells, two materials, moving particles; and the MPM baseline, USL, USF and MUSL), and the
+// threaded path is the one taken.
 #define BOOST_TEST_MODULE solver_threads
 #include <boost/test/unit_test.hpp>
 
 #include "common/loaded_scenes.hpp"
+#include "solver/mpm.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
 
@@ -22,8 +24,15 @@ json bar(const std::string& integrator, bool move) {
   return test::loaded_bar(6000, 1e-3, integrator, move);  // 6000 cells: threaded
 }
 
-json plate(const std::string& flux, const std::string& integrator, bool move) {
-  return test::loaded_plate(80, 60, 0.05, 1, flux, integrator, move);  // 4800 cells: threaded
+json plate(const std::string& flux, const std::string& integrator, bool move, int ppc = 1) {
+  return test::loaded_plate(80, 60, 0.05, ppc, flux, integrator, move);  // 4800 cells: threaded
+}
+
+// The scene under the MPM baseline (the DGMPM flux removed).
+json mpm(json doc, const std::string& variant) {
+  doc.erase("flux");
+  doc["method"] = "mpm-" + variant;
+  return doc;
 }
 
 // Particle states and positions after `steps` steps on `threads` threads.
@@ -56,6 +65,10 @@ BOOST_AUTO_TEST_CASE(the_threaded_path_is_taken_on_these_grids) {
       scene::parse_scene(plate("dcu", "euler", false), "threads"));
   BOOST_TEST(bar_sim.problem().grid.num_cells() >= DGOperator<ElasticBar>::kThreadedCells);
   BOOST_TEST(plate_sim.problem().grid.num_cells() >= DGOperator<PlaneStrain>::kThreadedCells);
+  const Simulation<PlaneStrain> mpm_sim(
+      scene::parse_scene(mpm(plate("dcu", "euler", false, 2), "usl"), "threads"));
+  BOOST_TEST(bar_sim.num_particles() >= Mpm<ElasticBar>::kThreadedParticles);
+  BOOST_TEST(mpm_sim.num_particles() >= Mpm<PlaneStrain>::kThreadedParticles);
   omp_set_num_threads(2);
   BOOST_TEST(omp_get_max_threads() == 2);  // the comparisons below do run two threads
 }
@@ -83,4 +96,16 @@ BOOST_AUTO_TEST_CASE(two_dimensions) {
         test::periodic(plate(flux, "rk2", false), {true, false}),
         std::string("2D ") + flux + " rk2 periodic along x");
   }
+}
+
+BOOST_AUTO_TEST_CASE(mpm_baseline) {
+  for (const char* variant : {"usl", "usf", "musl"}) {
+    same_on_one_and_two_threads<ElasticBar>(mpm(bar("euler", true), variant),
+                                            std::string("1D MPM moving ") + variant);
+    same_on_one_and_two_threads<PlaneStrain>(mpm(plate("dcu", "euler", true, 2), variant),
+                                             std::string("2D MPM moving ") + variant);
+  }
+  same_on_one_and_two_threads<PlaneStrain>(
+      mpm(test::periodic(plate("dcu", "euler", false, 2), {true, false}), "usl"),
+      "2D MPM periodic along x");
 }
