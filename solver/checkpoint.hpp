@@ -15,7 +15,8 @@
 
 namespace dgmpm::checkpoint {
 
-inline constexpr int kFormat = 1;
+inline constexpr int kFormat =
+    2;  // 2: initial positions only for moving particles with an exact solution
 
 struct File {
   nlohmann::json header;

@@ -123,7 +123,7 @@ template <class Physics>
 Simulation<Physics>::Simulation(const scene::Scene& scene)
     : scene_(scene), problem_(make_problem<Physics>(scene)) {
   sort_by_cell(problem_.grid, problem_.particles);
-  reference_position_ = problem_.particles.position;
+  if (scene_.particles_move && problem_.exact) reference_position_ = problem_.particles.position;
   const double h = problem_.grid.cell_size.minCoeff();
   if (scene_.method == scene::Method::dgmpm) {
     stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
@@ -351,7 +351,8 @@ template <class Physics>
 typename Simulation<Physics>::Field Simulation<Physics>::exact_state(double t) const {
   const auto& p = problem_.particles;
   Field s(ncomp, p.size());
-  for (int i = 0; i < p.size(); ++i) s.col(i) = problem_.exact(reference_position_.col(i), t);
+  const auto& x0 = reference_position_.cols() > 0 ? reference_position_ : p.position;
+  for (int i = 0; i < p.size(); ++i) s.col(i) = problem_.exact(x0.col(i), t);
   return s;
 }
 
@@ -728,7 +729,7 @@ void Simulation<Physics>::restore(const std::string& path) {
                               std::to_string(p.size()) + " in " + std::to_string(dim) + "D");
     ParticleSet restored;
     restored.resize(p.size());
-    Eigen::Matrix<double, dim, Eigen::Dynamic> reference(dim, p.size());
+    Eigen::Matrix<double, dim, Eigen::Dynamic> reference(dim, reference_position_.cols());
     checkpoint::PayloadReader r(path, file.payload);
     checkpoint_arrays(restored, reference, [&](auto& a) { get(r, a); });
     r.expect_end();

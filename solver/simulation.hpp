@@ -170,9 +170,11 @@ class Simulation final : public SimulationBase {
 
   scene::Scene scene_;
   Problem<Physics> problem_;
-  std::unique_ptr<Stepper<Physics>> stepper_;                      // DGMPM
-  std::unique_ptr<Mpm<Physics>> mpm_;                              // MPM baseline
-  Eigen::Matrix<double, dim, Eigen::Dynamic> reference_position_;  // initial positions
+  std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
+  std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
+  // Initial positions, kept for the exact solution of moving particles only (fixed particles are
+  // their own reference).
+  Eigen::Matrix<double, dim, Eigen::Dynamic> reference_position_;
   std::optional<TimeStepControl<Physics>> time_control_;
   std::vector<std::string> warnings_;
   double time_ = 0, dt_ = 0, work_ = 0, power_ = 0;

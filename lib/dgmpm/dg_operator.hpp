@@ -391,14 +391,14 @@ class DGOperator {
     cell_residual(c, qn, t, sweep, rc);
     if (disc_.has_massless_nodes())
       for (int a = 0; a < npc; ++a) {
-        const int i = c * npc + a, s = disc_.node_source(i);
-        if (s >= 0 && s != i) rc.col(s - c * npc) += rc.col(a);
+        const int s = disc_.source_corner(c * npc + a);
+        if (s >= 0 && s != a) rc.col(s) += rc.col(a);
       }
     out = qn.template middleCols<npc>(c * npc);
     for (int a = 0; a < npc; ++a) out.col(a) += (dt * disc_.inverse_mass(c * npc + a)) * rc.col(a);
     for (int a = 0; a < npc; ++a) {
-      const int i = c * npc + a, s = disc_.node_source(i);
-      if (s != i) out.col(a) = out.col(s - c * npc);
+      const int s = disc_.source_corner(c * npc + a);
+      if (s != a) out.col(a) = out.col(s);
     }
   }
 
@@ -421,20 +421,18 @@ class DGOperator {
       const int p = disc_.entry_particle(e);
       block.noalias() += (mass[p] * qp.col(p)) * disc_.entry_shape(e).transpose();
     }
+    for (int a = 0; a < npc; ++a)
+      if (disc_.source_corner(c * npc + a) == a) block.col(a) *= disc_.inverse_mass(c * npc + a);
     for (int a = 0; a < npc; ++a) {
-      const int i = c * npc + a, s = disc_.node_source(i);
-      if (s == i) block.col(a) *= disc_.inverse_mass(i);
-    }
-    for (int a = 0; a < npc; ++a) {
-      const int i = c * npc + a, s = disc_.node_source(i);
-      if (s != i) block.col(a) = block.col(s - c * npc);
+      const int s = disc_.source_corner(c * npc + a);
+      if (s != a) block.col(a) = block.col(s);
     }
   }
 
   void copy_massless(int c, NodalField& q) const {
     for (int a = 0; a < npc; ++a) {
-      const int i = c * npc + a, s = disc_.node_source(i);
-      if (s != i) q.col(i) = q.col(s);
+      const int s = disc_.source_corner(c * npc + a);
+      if (s != a) q.col(c * npc + a) = q.col(c * npc + s);
     }
   }
 
@@ -446,7 +444,7 @@ class DGOperator {
     int count = 1;
     for (int k = 0; k < dim; ++k) count *= extent[k];
     face_cells_[l].resize(count);
-    face_boundary_[l].assign(count, -1);
+    face_boundary_[l].clear();
     cell_faces_[l].resize(2 * static_cast<std::size_t>(grid_.num_cells()));
     for (int f = 0; f < count; ++f) {
       typename Grid<dim>::Index k{};
@@ -504,7 +502,7 @@ class DGOperator {
       }
     }
     fc.end = static_cast<int>(parts_.size());
-    face_boundary_[l][f] = static_cast<int>(conditions_.size());
+    face_boundary_[l].emplace_back(f, static_cast<int>(conditions_.size()));  // f increases
     conditions_.push_back(fc);
     if (fc.kind == BoundaryKind::traction || fc.kind == BoundaryKind::velocity)
       loaded_faces_.emplace_back(l, f);
@@ -516,10 +514,18 @@ class DGOperator {
     return v;
   }
 
+  // Index into conditions_ of face f along l, -1 if it is not on a grid side (a search: only
+  // boundary faces ask).
+  int boundary_condition(int l, int f) const {
+    const auto& faces = face_boundary_[l];
+    const auto it = std::lower_bound(faces.begin(), faces.end(), std::pair{f, -1});
+    return it != faces.end() && it->first == f ? it->second : -1;
+  }
+
   // Kind of the boundary that face f is for its occupied side: the grid side's condition, or a
   // free surface against a void cell.
   BoundaryKind mirror_kind(int l, int f) const {
-    const int b = face_boundary_[l][f];
+    const int b = boundary_condition(l, f);
     return b >= 0 ? conditions_[b].kind : BoundaryKind::free;
   }
 
@@ -538,7 +544,7 @@ class DGOperator {
   // Star state of boundary face f (grid side or void neighbour) from the inside edge state q of
   // the occupied cell, on its plus side (side 1: the face is its upper one) or minus side.
   State boundary_star(int l, int f, const State& q, const Material& mat, int side, double t) const {
-    const int b = face_boundary_[l][f];
+    const int b = boundary_condition(l, f);
     const State g =
         b >= 0 ? Physics::ghost(conditions_[b].kind, condition_value(conditions_[b], t), l, q, mat)
                : Physics::ghost(BoundaryKind::free, Vec::Zero(), l, q, mat);
@@ -655,7 +661,8 @@ class DGOperator {
   Eigen::Matrix<double, dim, 1> face_weight_;
   std::array<std::vector<std::pair<int, int>>, dim> face_cells_;  // (minus, plus), -1 outside
   std::array<std::vector<int>, dim> cell_faces_;                  // [2 c + side] -> face
-  std::array<std::vector<int>, dim> face_boundary_;               // -> conditions_, or -1
+  // The grid sides' faces of each axis, by increasing face: (face, index into conditions_).
+  std::array<std::vector<std::pair<int, int>>, dim> face_boundary_;
   std::vector<FaceCondition> conditions_;
   std::vector<std::pair<const Table*, double>> parts_;
   std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity

@@ -84,7 +84,7 @@ class Discretisation {
 
     node_mass_.setZero(grid.num_nodes());
     inv_mass_.setZero(grid.num_nodes());
-    node_source_.assign(grid.num_nodes(), -1);
+    source_corner_.assign(grid.num_nodes(), -1);
     stiffness_.resize(static_cast<std::size_t>(nc) * dim);
     cell_material_.resize(nc);
     table_.assign(materials.begin(), materials.end());  // this build's blends follow
@@ -155,7 +155,12 @@ class Discretisation {
   double inverse_mass(int i) const { return inv_mass_[i]; }
   // i itself for a node with mass; for a massless node of an occupied cell, the node of the same
   // cell that stands in for it; -1 for the nodes of a void cell.
-  int node_source(int i) const { return node_source_[i]; }
+  int node_source(int i) const {
+    const int a = source_corner_[i];
+    return a < 0 ? -1 : i - i % npc + a;
+  }
+  // The same as a corner of node i's cell (0 to npc - 1), or -1: one byte per node.
+  int source_corner(int i) const { return source_corner_[i]; }
   // Whether some occupied cell has a massless node (so update() has residuals to fold).
   bool has_massless_nodes() const { return has_massless_; }
   int num_particles() const { return static_cast<int>(entries_.size()); }
@@ -176,18 +181,18 @@ class Discretisation {
       const int i = c * npc + a;
       if (node_mass_[i] > massless_share * cell_mass) {
         inv_mass_[i] = 1.0 / node_mass_[i];
-        node_source_[i] = i;
+        source_corner_[i] = static_cast<signed char>(a);
       }
     }
     for (int a = 0; a < npc; ++a) {
       const int i = c * npc + a;
-      if (node_source_[i] >= 0) continue;
+      if (source_corner_[i] >= 0) continue;
       int best = -1, best_distance = dim + 1;
       for (int b = 0; b < npc; ++b) {
         const int d = __builtin_popcount(static_cast<unsigned>(a ^ b));
         if (inv_mass_[c * npc + b] > 0.0 && d < best_distance) best = b, best_distance = d;
       }
-      node_source_[i] = c * npc + best;
+      source_corner_[i] = static_cast<signed char>(best);
       has_massless_ = true;
     }
   }
@@ -197,7 +202,7 @@ class Discretisation {
   std::vector<int> cell_begin_, entries_;
   Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
   Eigen::VectorXd node_mass_, inv_mass_;
-  std::vector<int> node_source_;
+  std::vector<signed char> source_corner_;
   std::vector<Stiffness> stiffness_;
   std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
   std::vector<int> cell_material_;  // index into table_
