@@ -1,13 +1,15 @@
 // The discretisation's rebuild is incremental: when no particle changed cell since the last
 // build, the cells keep their particle lists (no sort) and only the values are recomputed. It
 // must give what a build from scratch gives, value for value; the first over-full cell it reports
-// must be the one a pass over the cells finds.
+// must be the one a pass over the cells finds. On threads (large grids) a build gives what one
+// thread gives, blends of mixed cells included.
 #define BOOST_TEST_MODULE rebuild
 #include <boost/test/unit_test.hpp>
 
 #include <dgmpm/discretisation.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 
+#include <omp.h>
 #include <random>
 #include <vector>
 
@@ -18,17 +20,18 @@ namespace {
 using Disc = Discretisation<PlaneStrain>;
 using ParticleSet = Particles<2, PlaneStrain::n_comp>;
 
-Grid<2> grid() {
+Grid<2> grid(int nx = 8, int ny = 6) {
   Grid<2> g;
   g.cell_size << 0.5, 0.25;
-  g.cells = {8, 6};
+  g.cells = {nx, ny};
   return g;
 }
 
 // Two particles in most cells (none in a few), random positions inside their cells, two
-// materials, each cell's two masses summing to between 0.5 and 1.5 times a full cell's.
+// materials (by cell, or with `mixed` drawn per particle), each cell's two masses summing to
+// between 0.5 and 1.5 times a full cell's.
 ParticleSet particles(const Grid<2>& g, const std::vector<PlaneStrain::Material>& materials,
-                      std::mt19937& rng) {
+                      std::mt19937& rng, bool mixed = false) {
   std::uniform_real_distribution<double> u(0.05, 0.95);
   ParticleSet p;
   p.resize(2 * g.num_cells());
@@ -38,9 +41,10 @@ ParticleSet particles(const Grid<2>& g, const std::vector<PlaneStrain::Material>
     const auto k = g.unflatten(c);
     for (int q = 0; q < 2; ++q, ++n) {
       for (int a = 0; a < 2; ++a) p.position(a, n) = (k[a] + u(rng)) * g.cell_size[a];
-      p.mass[n] = (0.5 + u(rng)) * 0.5 * materials[c % 2].density * g.cell_volume();
+      const int m = mixed ? (u(rng) < 0.5) : c % 2;
+      p.mass[n] = (0.5 + u(rng)) * 0.5 * materials[m].density * g.cell_volume();
       p.volume[n] = 1.0;
-      p.material[n] = c % 2;
+      p.material[n] = m;
       p.id[n] = n;
     }
   }
@@ -119,4 +123,29 @@ BOOST_AUTO_TEST_CASE(incremental_rebuild_equals_a_build_from_scratch) {
       first = c;
   BOOST_TEST_REQUIRE(first >= 0);
   BOOST_TEST(kept.first_overfull_cell() == first);
+}
+
+BOOST_AUTO_TEST_CASE(a_threaded_build_equals_a_one_thread_build) {
+  std::mt19937 rng(5);
+  const Grid<2> g = grid(80, 60);
+  BOOST_TEST_REQUIRE(g.num_cells() >= Disc::kThreaded);
+  const std::vector<PlaneStrain::Material> materials{{2e11, 0.3, 7800}, {2e10, 0.25, 2000}};
+  const ParticleSet p = particles(g, materials, rng, true);
+  Disc one, two;
+  omp_set_num_threads(1);
+  one.build(g, p, materials);
+  omp_set_num_threads(2);
+  BOOST_TEST_REQUIRE(omp_get_max_threads() == 2);
+  two.build(g, p, materials);
+  int mixed = 0;
+  for (int c = 0; c < g.num_cells(); ++c) {
+    if (!one.occupied(c)) continue;
+    int steel = 0, cell = 0;
+    for (int e = one.cell_begin(c); e < one.cell_end(c); ++e, ++cell)
+      steel += p.material[one.entry_particle(e)] == 0;
+    mixed += steel > 0 && steel < cell;
+  }
+  BOOST_TEST(mixed > 1000);
+  BOOST_TEST(one.first_overfull_cell() >= 0);
+  same(one, two, g);
 }

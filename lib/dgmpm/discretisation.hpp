@@ -9,6 +9,7 @@
 #include "shape_functions.hpp"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -39,6 +40,10 @@ class Discretisation {
   using Shape = CellShape<dim>;
   using Stiffness = Eigen::Matrix<double, npc, npc>;
   static constexpr double massless_share = 1e-10;
+  // Builds of this many cells or particles or more run on threads: the particles' cells, then the
+  // cells' values (each cell writes only its own); the sort by cell and the blends of mixed cells
+  // (in cell order) stay serial. The result does not depend on the number of threads.
+  static constexpr int kThreaded = 4096;
   static constexpr double overfull_tolerance = 1e-6;  // a fill above 1 + this is over-full
 
   // Fill correction (off by default: method.md's pseudo-stiffness). A cell whose particles carry
@@ -60,14 +65,21 @@ class Discretisation {
                       static_cast<int>(cell_begin_.size()) == nc + 1;
     particle_cell_.resize(np);
     local_.resize(dim, np);
+    int outside = np;  // the first particle outside the grid
+#pragma omp parallel for schedule(static) reduction(min : outside) reduction(&& : same_cells) \
+    if (np >= kThreaded)
     for (int p = 0; p < np; ++p) {
       Eigen::Matrix<double, dim, 1> xi;
       const int c = grid.locate(particles.position.col(p), xi);
-      if (c < 0) throw_outside_grid(particles, p);
+      if (c < 0) {
+        outside = std::min(outside, p);
+        continue;
+      }
       same_cells = same_cells && particle_cell_[p] == c;
       particle_cell_[p] = c;
       local_.col(p) = xi;
     }
+    if (outside < np) throw_outside_grid(particles, outside);
     if (!same_cells) {  // counting sort of the particles by cell
       ++sorts_;
       // Ends of the cells' ranges, then filled from the back: each end moves down to its begin
@@ -89,15 +101,18 @@ class Discretisation {
     cell_material_.resize(nc);
     table_.assign(materials.begin(), materials.end());  // this build's blends follow
     occupied_.assign(nc, 0);
-    has_massless_ = false;
     cell_volume_ = grid.cell_volume();
-    first_overfull_ = -1;
 
+    int first_overfull = nc;
+    bool massless = false;
+#pragma omp parallel for schedule(static) reduction(min                                            \
+                                                    : first_overfull)                              \
+    reduction(||                                                                                   \
+              : massless) if (nc >= kThreaded)
     for (int c = 0; c < nc; ++c) {
       for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
       double cell_mass = 0.0;
-      int pure = -1;     // the material every particle so far carries, or -1 once mixed
-      Material blended;  // the mass-weighted blend once mixed
+      int pure = -1;  // the material every particle so far carries; kMixed once several
       for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
         const int p = entries_[e];
         const double m = particles.mass[p];
@@ -108,6 +123,26 @@ class Discretisation {
         for (int l = 0; l < dim; ++l)
           stiffness_[c * dim + l] += m * g.row(l).transpose() * s.transpose();
         const int k = particles.material[p];
+        if (cell_mass == 0.0) pure = k;
+        if (k != pure) pure = kMixed;
+        cell_mass += m;
+      }
+      occupied_[c] = cell_mass > 0.0;
+      if (!occupied_[c]) continue;
+      massless = set_node_sources(c, cell_mass) || massless;
+      cell_material_[c] = pure;
+      if (pure != kMixed) finish_cell(c, cell_mass, first_overfull);
+    }
+    // Mixed cells, in cell order: their blends join the table.
+    for (int c = 0; c < nc; ++c) {
+      if (!occupied_[c] || cell_material_[c] != kMixed) continue;
+      double cell_mass = 0.0;
+      int pure = -1;     // as above, until mixed
+      Material blended;  // the mass-weighted blend once mixed
+      for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
+        const int p = entries_[e];
+        const double m = particles.mass[p];
+        const int k = particles.material[p];
         if (cell_mass == 0.0) {
           pure = k;
         } else if (pure < 0 || k != pure) {
@@ -117,42 +152,59 @@ class Discretisation {
         }
         cell_mass += m;
       }
-      occupied_[c] = cell_mass > 0.0;
-      if (!occupied_[c]) continue;
-      if (pure >= 0) {
-        cell_material_[c] = pure;
-      } else {
-        cell_material_[c] = static_cast<int>(table_.size());
-        table_.push_back(blended);
-      }
-      set_node_sources(c, cell_mass);
-      if (first_overfull_ < 0 && fill(c) > 1.0 + overfull_tolerance) first_overfull_ = c;
-      if (fill_correction_) {
-        const double full = Physics::density(cell_material(c)) * grid.cell_volume();
-        for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] *= full / cell_mass;
-      }
+      cell_material_[c] = static_cast<int>(table_.size());
+      table_.push_back(blended);
+      finish_cell(c, cell_mass, first_overfull);
     }
+    has_massless_ = massless;
+    first_overfull_ = first_overfull < nc ? first_overfull : -1;
   }
 
-  int num_cells() const { return static_cast<int>(occupied_.size()); }
-  int cell_begin(int c) const { return cell_begin_[c]; }
-  int cell_end(int c) const { return cell_begin_[c + 1]; }
-  int entry_particle(int e) const { return entries_[e]; }
-  auto entry_shape(int e) const { return shape_.col(e); }
-  int particle_cell(int p) const { return particle_cell_[p]; }
-  auto particle_local(int p) const { return local_.col(p); }
-  bool occupied(int c) const { return occupied_[c]; }
+  int num_cells() const {
+    return static_cast<int>(occupied_.size());
+  }
+  int cell_begin(int c) const {
+    return cell_begin_[c];
+  }
+  int cell_end(int c) const {
+    return cell_begin_[c + 1];
+  }
+  int entry_particle(int e) const {
+    return entries_[e];
+  }
+  auto entry_shape(int e) const {
+    return shape_.col(e);
+  }
+  int particle_cell(int p) const {
+    return particle_cell_[p];
+  }
+  auto particle_local(int p) const {
+    return local_.col(p);
+  }
+  bool occupied(int c) const {
+    return occupied_[c];
+  }
   // The material of cell c's particles, mass-weighted when they carry several.
-  const Material& cell_material(int c) const { return table_[cell_material_[c]]; }
-  const Stiffness& stiffness(int c, int axis) const { return stiffness_[c * dim + axis]; }
-  double node_mass(int i) const { return node_mass_[i]; }
+  const Material& cell_material(int c) const {
+    return table_[cell_material_[c]];
+  }
+  const Stiffness& stiffness(int c, int axis) const {
+    return stiffness_[c * dim + axis];
+  }
+  double node_mass(int i) const {
+    return node_mass_[i];
+  }
   // Mass of cell c's particles over rho V (rho their material's density): 1 for a full cell.
   double fill(int c) const {
     return cell_mass(c) / (Physics::density(cell_material(c)) * cell_volume_);
   }
   // Mass of cell c's particles (the sum of its lumped nodal masses).
-  double cell_mass(int c) const { return node_mass_.template segment<npc>(c * npc).sum(); }
-  double inverse_mass(int i) const { return inv_mass_[i]; }
+  double cell_mass(int c) const {
+    return node_mass_.template segment<npc>(c * npc).sum();
+  }
+  double inverse_mass(int i) const {
+    return inv_mass_[i];
+  }
   // i itself for a node with mass; for a massless node of an occupied cell, the node of the same
   // cell that stands in for it; -1 for the nodes of a void cell.
   int node_source(int i) const {
@@ -160,15 +212,25 @@ class Discretisation {
     return a < 0 ? -1 : i - i % npc + a;
   }
   // The same as a corner of node i's cell (0 to npc - 1), or -1: one byte per node.
-  int source_corner(int i) const { return source_corner_[i]; }
+  int source_corner(int i) const {
+    return source_corner_[i];
+  }
   // Whether some occupied cell has a massless node (so update() has residuals to fold).
-  bool has_massless_nodes() const { return has_massless_; }
-  int num_particles() const { return static_cast<int>(entries_.size()); }
+  bool has_massless_nodes() const {
+    return has_massless_;
+  }
+  int num_particles() const {
+    return static_cast<int>(entries_.size());
+  }
   // The first cell (by index) whose fill exceeds 1 + overfull_tolerance, or -1: found by the
   // build, so that no pass over the cells looks for it.
-  int first_overfull_cell() const { return first_overfull_; }
+  int first_overfull_cell() const {
+    return first_overfull_;
+  }
   // Builds that had to sort the particles by cell (the others kept the cells' particle lists).
-  long sorts() const { return sorts_; }
+  long sorts() const {
+    return sorts_;
+  }
 
  private:
   // A massless node (every particle of its cell on the far side) takes no part in the update.
@@ -176,7 +238,9 @@ class Discretisation {
   // to that node: for Euler the limit of a vanishing nodal mass; conservative in any case. A node
   // holding less than `massless_share` of its cell's mass counts as massless: dividing by it
   // would amplify round-off by the inverse of that share.
-  void set_node_sources(int c, double cell_mass) {
+  // Returns whether the cell has a massless node.
+  bool set_node_sources(int c, double cell_mass) {
+    bool massless = false;
     for (int a = 0; a < npc; ++a) {
       const int i = c * npc + a;
       if (node_mass_[i] > massless_share * cell_mass) {
@@ -193,9 +257,21 @@ class Discretisation {
         if (inv_mass_[c * npc + b] > 0.0 && d < best_distance) best = b, best_distance = d;
       }
       source_corner_[i] = static_cast<signed char>(best);
-      has_massless_ = true;
+      massless = true;
+    }
+    return massless;
+  }
+
+  // The over-full check and the fill correction of an occupied cell whose material is set.
+  void finish_cell(int c, double cell_mass, int& first_overfull) {
+    if (fill(c) > 1.0 + overfull_tolerance) first_overfull = std::min(first_overfull, c);
+    if (fill_correction_) {
+      const double full = Physics::density(cell_material(c)) * cell_volume_;
+      for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] *= full / cell_mass;
     }
   }
+
+  static constexpr int kMixed = -2;  // cell_material_ of a mixed cell before its blend
 
   std::vector<int> particle_cell_;
   Eigen::Matrix<double, dim, Eigen::Dynamic> local_;
