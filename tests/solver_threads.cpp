@@ -1,7 +1,7 @@
 // The step runs on OpenMP threads on large grids: one and two threads give the same particle
 // states bit for bit (1D and 2D, Euler and RK2, DCU and CTU, boundaries, periodic axes, void
-// cells, two materials, moving particles; and the MPM baseline, USL, USF and MUSL), and the
-// threaded path is the one taken.
+// cells, two materials, moving particles, the automatic time step; and the MPM baseline, USL, USF
+// and MUSL), and the threaded path is the one taken.
 #define BOOST_TEST_MODULE solver_threads
 #include <boost/test/unit_test.hpp>
 
@@ -40,8 +40,7 @@ template <class Physics>
 Eigen::MatrixXd run(const json& doc, int threads, int steps) {
   omp_set_num_threads(threads);
   Simulation<Physics> sim(scene::parse_scene(doc, "threads"));
-  const double dt = sim.stable_time_step();
-  for (int k = 0; k < steps; ++k) sim.step(dt);
+  for (int k = 0; k < steps; ++k) sim.step(sim.stable_time_step());  // recomputed with "auto"
   const auto& p = sim.particles();
   Eigen::MatrixXd out(p.state.rows() + p.position.rows(), p.size());
   out << p.state, p.position;
@@ -80,6 +79,9 @@ BOOST_AUTO_TEST_CASE(one_dimension) {
           bar(integrator, move), std::string("1D ") + integrator + (move ? " moving" : ""));
   same_on_one_and_two_threads<ElasticBar>(test::periodic(bar("euler", false), {true}),
                                           "1D euler periodic");
+  json automatic = bar("rk2", true);  // the time step from the layouts, on threads
+  automatic["time"]["courant"] = "auto";
+  same_on_one_and_two_threads<ElasticBar>(automatic, "1D rk2 moving, auto dt");
 }
 
 BOOST_AUTO_TEST_CASE(two_dimensions) {
