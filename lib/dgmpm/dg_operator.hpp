@@ -278,15 +278,12 @@ class DGOperator {
   // returns whether every block the bodies checked (Sweep::check) is finite. With a projection,
   // each cell is projected before its neighbours' bodies run: the cells a face links are at most
   // `reach` apart in index (the largest stride; a periodic wrap links a range's first and last
-  // cells), so each thread first projects its range's first and last `reach` (at least that) cells
-  // (the only ones another thread reads), waits for the others, then projects c + reach before the
-  // body of c.
+  // cells), so each thread first projects its range's first and last `reach` cells (the only ones
+  // another thread reads), waits for the others, then projects c + reach before the body of c.
   template <class Body>
   bool sweep_cells(const Projection& projection, Body&& body) const {
     const int n = disc_.num_cells();
-    // Projecting a few cells further than needed keeps the body's loads away from the
-    // projection's pending stores (in 1D they would be the next cell's).
-    const int reach = stride_[dim - 1] + 16;
+    const int reach = stride_[dim - 1];
     int threads = 1;
 #ifdef _OPENMP
     if (threaded()) threads = omp_get_max_threads();

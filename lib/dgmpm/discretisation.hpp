@@ -1,8 +1,8 @@
 #pragma once
 // Everything the DGMPM operators need from one particle configuration: which particles each cell
-// holds, their shape function values, lumped nodal masses, pseudo-stiffness matrices and cell
-// materials (docs/method.md, "Discretisation"). Built once for fixed particles, rebuilt after every
-// move otherwise.
+// holds, their local coordinates (shape values follow from them), lumped nodal masses,
+// pseudo-stiffness matrices and cell materials (docs/method.md, "Discretisation"). Built once for
+// fixed particles, rebuilt after every move otherwise.
 
 #include "grid.hpp"
 #include "particles.hpp"
@@ -92,7 +92,6 @@ class Discretisation {
       for (int c = 0; c < nc; ++c) cell_begin_[c] = cell_begin_[c + 1];
       cell_begin_[nc] = np;
     }
-    shape_.resize(npc, np);
 
     node_mass_.setZero(grid.num_nodes());
     inv_mass_.setZero(grid.num_nodes());
@@ -118,7 +117,6 @@ class Discretisation {
         const double m = particles.mass[p];
         const auto s = Shape::values(local_.col(p));
         const auto g = Shape::gradients(local_.col(p), grid.cell_size);
-        shape_.col(e) = s;
         node_mass_.segment<npc>(c * npc) += m * s;
         for (int l = 0; l < dim; ++l)
           stiffness_[c * dim + l] += m * g.row(l).transpose() * s.transpose();
@@ -172,8 +170,10 @@ class Discretisation {
   int entry_particle(int e) const {
     return entries_[e];
   }
-  auto entry_shape(int e) const {
-    return shape_.col(e);
+  // Shape values of entry e's particle at its cell's nodes: computed from its local coordinates
+  // when asked (a few products; storing them cost npc doubles per particle).
+  typename Shape::Values entry_shape(int e) const {
+    return Shape::values(local_.col(entries_[e]));
   }
   int particle_cell(int p) const {
     return particle_cell_[p];
@@ -276,7 +276,6 @@ class Discretisation {
   std::vector<int> particle_cell_;
   Eigen::Matrix<double, dim, Eigen::Dynamic> local_;
   std::vector<int> cell_begin_, entries_;
-  Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
   Eigen::VectorXd node_mass_, inv_mass_;
   std::vector<signed char> source_corner_;
   std::vector<Stiffness> stiffness_;
