@@ -61,13 +61,13 @@ class Discretisation {
   void build(const Grid<dim>& grid, const Particles<dim, ncomp>& particles,
              const std::vector<Material>& materials) {
     const int nc = grid.num_cells(), np = particles.size();
+    const bool threaded = std::max(nc, np) >= kThreaded;
     bool same_cells = static_cast<int>(particle_cell_.size()) == np &&
                       static_cast<int>(cell_begin_.size()) == nc + 1;
     particle_cell_.resize(np);
     local_.resize(dim, np);
     int outside = np;  // the first particle outside the grid
-#pragma omp parallel for schedule(static) reduction(min : outside) reduction(&& : same_cells) \
-    if (np >= kThreaded)
+#pragma omp parallel for reduction(min : outside) reduction(&& : same_cells) if (threaded)
     for (int p = 0; p < np; ++p) {
       Eigen::Matrix<double, dim, 1> xi;
       const int c = grid.locate(particles.position.col(p), xi);
@@ -104,10 +104,7 @@ class Discretisation {
 
     int first_overfull = nc;
     bool massless = false;
-#pragma omp parallel for schedule(static) reduction(min                                            \
-                                                    : first_overfull)                              \
-    reduction(||                                                                                   \
-              : massless) if (nc >= kThreaded)
+#pragma omp parallel for reduction(min : first_overfull) reduction(|| : massless) if (threaded)
     for (int c = 0; c < nc; ++c) {
       for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
       double cell_mass = 0.0;
