@@ -92,7 +92,7 @@ BOOST_AUTO_TEST_CASE(two_dimensions) {
   same_on_one_and_two_threads<PlaneStrain>(plate("dcu", "rk2", true), "2D dcu rk2 moving");
   for (const char* flux : {"dcu", "ctu"}) {
     same_on_one_and_two_threads<PlaneStrain>(
-        test::periodic(plate(flux, "euler", false), {true, true}),
+        test::periodic(test::filled(plate(flux, "euler", false)), {true, true}),
         std::string("2D ") + flux + " periodic");
     same_on_one_and_two_threads<PlaneStrain>(
         test::periodic(plate(flux, "rk2", false), {true, false}),

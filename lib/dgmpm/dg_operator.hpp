@@ -4,8 +4,8 @@
 //   residual     r_i = sum_l K^l_ij F^s_l(q_j) + Fhat_i (pseudo-stiffness + Godunov edge fluxes)
 //   update       q_i += dt r_i / m_i
 //   interpolate  nodes -> particles: q_p = sum_i S_ip q_i
-// Time integrators (time_integration.hpp) compose these; the solver and the stability analysis
-// both step through them.
+// The time integrators (time_integration.hpp) step through stages that do these cell by cell in
+// one pass over the cells; the solver and the stability analysis both step through them.
 //
 // Edge fluxes: one Riemann problem per cell edge (face in 3D) between the averages of the nodal
 // states that meet there; the flux is constant along the edge and each face node of each side
@@ -76,45 +76,29 @@ class DGOperator {
   int num_nodes() const { return grid_.num_nodes(); }
   int num_faces(int axis) const { return static_cast<int>(face_cells_[axis].size()); }
 
-  // The per-cell loops below run on OpenMP threads on large grids. Each writes only its own
-  // cell's nodes (broken shape functions) or particles, and a face only its two cells' nodes on
-  // its side, each node receiving at most one face contribution per axis, in axis order: the
-  // results do not depend on the number of threads.
+  // The sweeps below run on OpenMP threads on large grids, over contiguous ranges of cells. A cell
+  // writes only its own nodes (broken shape functions) and particles, a face its own star state
+  // and fluctuations; every sum runs in the same order whatever the threads: the results do not
+  // depend on their number.
   bool threaded() const { return disc_.num_cells() >= kThreadedCells; }
 
-  // Only occupied cells' nodes are written (and ever read): no pass clears the others.
-  void project(const ParticleField& qp, const Eigen::VectorXd& mass, NodalField& qn) const {
-    qn.resize(ncomp, num_nodes());
-#pragma omp parallel for schedule(static) if (threaded())
-    for (int c = 0; c < disc_.num_cells(); ++c) {
-      if (!disc_.occupied(c)) continue;
-      auto block = qn.template middleCols<npc>(c * npc);
-      project_cell(c, qp, mass, block);
-    }
-  }
-
-  // --- The stages the integrators step through. DCU runs each stage as one pass over the cells:
-  // a cell is projected just before the first cell whose faces need its values (one layer of
-  // cells ahead: `reach` below), and each cell computes its whole residual (volume term and its
-  // faces' fluxes, each interior face's Riemann problem solved once, by the first of its two cells
-  // a thread reaches) and its update, then its particles; no nodal residual array, no clearing
-  // pass. The sums are those of residual() + update() in the same order: the same values to the
-  // last bit (tests/solver_fused_steps.cpp). CTU composes project(), residual() and update() (its
-  // transverse corrections couple a face to its cells' other faces), with a residual array of
-  // its own. Stages that write particles return whether every new state is finite.
+  // --- The stages the integrators step through, each one pass over the cells (sweep_cells): a
+  // cell's nodal values are projected from its particles a few layers of cells ahead of the sweep
+  // (as far as the cells that read them), and each cell computes its whole residual (volume term
+  // and its faces' fluxes, each interior face's solved once, by the first of its two cells a
+  // thread reaches) and its update, then its particles; no nodal residual array, no clearing
+  // pass. CTU's star states and the fluctuations entering each side of a face are computed
+  // further ahead, by the face's plus cell: a face's transverse correction gathers those of its
+  // two cells' other faces. The sums are those of the face-by-face composition project ->
+  // residual -> update -> interpolate in the same order: the same values to the last bit (that
+  // composition is written out in tests/solver_fused_steps.cpp). Stages that write particles
+  // return whether every new state is finite.
 
   // Euler: q = projection of qp, then qp of each cell = interpolation of q + dt M^-1 r(q, t).
   bool project_and_advance_to_particles(ParticleField& qp, const Eigen::VectorXd& mass, double t,
                                         double dt, NodalField& q) const {
-    if (scheme_ == FluxScheme::ctu) {
-      project(qp, mass, q);
-      composed_update(q, t, dt);
-      return interpolate(q, qp);
-    }
     q.resize(ncomp, num_nodes());
-    return sweep_cells(Projection{&qp, &mass, &q}, [&](int c, Sweep& sweep) {
-      CellBlock out;
-      advance_cell(c, q, t, dt, sweep, out);
+    return advance(Projection{&qp, &mass, &q}, q, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       interpolate_cell(c, out, qp);
       sweep.check(out);
     });
@@ -123,98 +107,92 @@ class DGOperator {
   // RK2's first stage: q0 = projection of qp, q1 = q0 + dt M^-1 r(q0, t) on every occupied cell.
   void project_and_advance(const ParticleField& qp, const Eigen::VectorXd& mass, double t,
                            double dt, NodalField& q0, NodalField& q1) const {
-    if (scheme_ == FluxScheme::ctu) {
-      project(qp, mass, q0);
-      q1 = q0;
-      composed_update(q1, t, dt, &q0);
-      return;
-    }
     q0.resize(ncomp, num_nodes());
     q1.resize(ncomp, num_nodes());
-    sweep_cells(Projection{&qp, &mass, &q0}, [&](int c, Sweep& sweep) {
-      CellBlock out;
-      advance_cell(c, q0, t, dt, sweep, out);
-      q1.template middleCols<npc>(c * npc) = out;
-    });
+    advance(Projection{&qp, &mass, &q0}, q0, t, dt,
+            [&](int c, CellBlock& out, Sweep&) { q1.template middleCols<npc>(c * npc) = out; });
   }
 
   // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2.
   bool average_to_particles(const NodalField& q0, const NodalField& q1, double t, double dt,
                             ParticleField& qp) const {
-    if (scheme_ == FluxScheme::ctu) {
-      scratch_ = q1;
-      composed_update(scratch_, t, dt, &q1);
-      scratch_ = 0.5 * (q0 + scratch_);
-      return interpolate(scratch_, qp);
-    }
-    return sweep_cells(Projection{}, [&](int c, Sweep& sweep) {
-      CellBlock out;
-      advance_cell(c, q1, t, dt, sweep, out);
+    return advance(Projection{}, q1, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
       interpolate_cell(c, out, qp);
       sweep.check(out);
     });
   }
 
-  // dt is read by CTU only (its transverse corrections scale with dt / h).
-  void residual(const NodalField& qn, double t, double dt, NodalField& r) const {
-    r.setZero(ncomp, num_nodes());
-#pragma omp parallel for schedule(static) if (threaded())
-    for (int c = 0; c < disc_.num_cells(); ++c) {
-      if (!disc_.occupied(c)) continue;
-      Eigen::Matrix<double, ncomp, npc> flux;
-      const auto& mat = disc_.cell_material(c);
-      auto q = qn.template middleCols<npc>(c * npc);
-      auto rc = r.template middleCols<npc>(c * npc);
-      for (int l = 0; l < dim; ++l) {
-        for (int a = 0; a < npc; ++a) flux.col(a) = Physics::specific_flux(l, q.col(a), mat);
-        rc.noalias() += flux * disc_.stiffness(c, l).transpose();
-      }
+  // --- The parts of the residual r_i = sum_l K^l_ij F^s_l(q_j) + Fhat_i, each defined once: the
+  // stages above compose them cell by cell; the tests compose them face by face.
+  using CellBlock = Eigen::Matrix<double, ncomp, npc>;
+  using FaceFluctuations = std::array<NodalField, dim>;  // per axis, columns 2 f + side
+
+  std::pair<int, int> face_cells(int l, int f) const { return face_cells_[l][f]; }
+  // Each face node's share of the lumped edge integral.
+  double face_weight(int l) const { return face_weight_[l]; }
+
+  // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns).
+  template <class Block>
+  void add_volume_term(int c, const Block& q, CellBlock& rc) const {
+    const auto& mat = disc_.cell_material(c);
+    CellBlock flux;
+    for (int l = 0; l < dim; ++l) {
+      for (int a = 0; a < npc; ++a) flux.col(a) = Physics::specific_flux(l, q.col(a), mat);
+      rc.noalias() += flux * disc_.stiffness(c, l).transpose();
     }
-    if (scheme_ == FluxScheme::ctu) {
-      if constexpr (dim > 1) ctu_fluxes(qn, t, dt, r);
-    } else {
+  }
+
+  // Star state of face f along l from the edge states of its sides (a boundary state where one
+  // side has no particles); false when neither side is occupied.
+  bool face_star(int l, int f, const NodalField& qn, double t, State& star) const {
+    const auto [cm, cp] = face_cells_[l][f];
+    const bool here = occupied(cm), there = occupied(cp);
+    if (!here && !there) return false;
+    const State minus = here ? edge_state(qn, cm, l, 1) : State::Zero();
+    const State plus = there ? edge_state(qn, cp, l, 0) : State::Zero();
+    star = star_of(l, f, here ? &minus : nullptr, there ? &plus : nullptr, t);
+    return true;
+  }
+
+  // CTU: the fluctuation entering face f's occupied side (0: the minus cell, A^-dq; 1: the plus
+  // cell, A^+dq) from its star state, times dt / (2 h_l).
+  State entering_fluctuation(int l, int f, const State& star, const NodalField& qn, double dt,
+                             int side) const requires(dim > 1) {
+    const auto [cm, cp] = face_cells_[l][f];
+    const int c = side ? cp : cm;
+    return (dt / (2.0 * grid_.cell_size[l])) *
+           Physics::fluctuation(l, star, edge_state(qn, c, l, !side), disc_.cell_material(c), side);
+  }
+
+  // CTU: the correction of face g's star state (g normal to t): each fluctuation w that entered
+  // one of g's cells through a face normal to another axis sends transverse waves across g.
+  // Against a boundary (grid side or void cell) the mirror image of the cell sends its part back
+  // in. Reads only the fluctuations entering g's occupied cells.
+  State transverse_correction(int t, int g, const FaceFluctuations& w) const requires(dim > 1) {
+    State correction = State::Zero();
+    const auto [gm, gp] = face_cells_[t][g];
+    for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
+      const int c = up ? gm : gp, o = up ? gp : gm;
+      if (!occupied(c)) continue;
+      const auto& mat = disc_.cell_material(c);
       for (int l = 0; l < dim; ++l) {
-#pragma omp parallel for schedule(static) if (threaded())
-        for (int f = 0; f < num_faces(l); ++f) {
-          State star;
-          if (face_star(l, f, qn, t, star)) distribute(l, f, star, r);
+        if (l == t) continue;
+        for (int side = 0; side < 2; ++side) {
+          // c's face on `side` along l; c is its plus cell when it is c's lower face.
+          const int f = cell_faces_[l][2 * c + side];
+          const State wf = w[l].col(2 * f + (side == 0));
+          if (occupied(o)) {
+            correction -= Physics::transverse(t, wf, mat, disc_.cell_material(o), up);
+          } else {
+            const State mirrored = Physics::reflect(mirror_kind(t, g), t, wf);
+            correction -= Physics::transverse(t, wf, mat, mat, up) +
+                          Physics::transverse(t, mirrored, mat, mat, !up);
+          }
         }
       }
     }
-  }
-
-  // q += dt M^-1 r. A massless node's residual goes to the node standing in for it (r is
-  // scratch and is modified), and it copies that node's value after the update.
-  void update(NodalField& q, NodalField& r, double dt) const {
-    if (disc_.has_massless_nodes())
-      for (int i = 0; i < num_nodes(); ++i) {
-        const int s = disc_.node_source(i);
-        if (s >= 0 && s != i) r.col(s) += r.col(i);
-      }
-#pragma omp parallel for schedule(static) if (threaded())
-    for (int c = 0; c < disc_.num_cells(); ++c) {
-      if (!disc_.occupied(c)) continue;
-      for (int a = 0; a < npc; ++a) {
-        const int i = c * npc + a;
-        q.col(i) += (dt * disc_.inverse_mass(i)) * r.col(i);
-      }
-      copy_massless(c, q);
-    }
-  }
-
-  // Returns whether every interpolated state is finite (a convex combination of finite nodal
-  // values is finite: the nodal values are checked).
-  bool interpolate(const NodalField& qn, ParticleField& qp) const {
-    bool finite = true;
-#pragma omp parallel for schedule(static) reduction(&& : finite) if (threaded())
-    for (int c = 0; c < disc_.num_cells(); ++c) {
-      if (!disc_.occupied(c)) continue;
-      const auto block = qn.template middleCols<npc>(c * npc);
-      interpolate_cell(c, block, qp);
-      finite = finite && block.allFinite();
-    }
-    return finite;
+    return correction;
   }
 
   // Power delivered to the particles by the prescribed boundary loads at time t: the sum over
@@ -241,14 +219,6 @@ class DGOperator {
   }
 
  private:
-  using CellBlock = Eigen::Matrix<double, ncomp, npc>;
-
-  // q += dt M^-1 r(from, t), from = q unless given (CTU's stages).
-  void composed_update(NodalField& q, double t, double dt, const NodalField* from = nullptr) const {
-    residual(from ? *from : q, t, dt, residual_);
-    update(q, residual_, dt);
-  }
-
   template <class Block>
   void interpolate_cell(int c, const Block& block, ParticleField& qp) const {
     for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)
@@ -259,7 +229,7 @@ class DGOperator {
   // each cell's upper face along l is kept (slot c mod stride_l of that axis) for the cell above
   // along l, whose lower face it is: each interior face's Riemann problem is solved once.
   struct Sweep {
-    int begin = 0;
+    int begin = 0, end = 0;
     std::array<State*, dim> stars{};
     std::array<int, dim> slot{};  // c mod stride_l, kept by the loop (no division per cell)
     // 0 * x is 0 for finite x, NaN otherwise: summed over the checked blocks, without a branch.
@@ -274,16 +244,59 @@ class DGOperator {
     NodalField* q = nullptr;
   };
 
-  // Calls body(c, sweep) on every occupied cell, on threads over contiguous ranges of cells;
-  // returns whether every block the bodies checked (Sweep::check) is finite. With a projection,
-  // each cell is projected before its neighbours' bodies run: the cells a face links are at most
-  // `reach` apart in index (the largest stride; a periodic wrap links a range's first and last
-  // cells), so each thread first projects its range's first and last `reach` cells (the only ones
-  // another thread reads), waits for the others, then projects c + reach before the body of c.
-  template <class Body>
-  bool sweep_cells(const Projection& projection, Body&& body) const {
-    const int n = disc_.num_cells();
+  // Work a sweep does on cell c + lead before the body of c. A thread does it before its sweep
+  // (then waits for the others) on the cells other threads read: the first `lead` and the last
+  // `tail` cells of its range.
+  template <class Work>
+  struct Ahead {
+    int lead, tail;
+    Work work;
+  };
+
+  // One stage: out = q_c + dt M^-1 r_c(from, t) on every occupied cell c, then finish(c, out,
+  // sweep). How far ahead the projection and CTU's faces run: the cells a face links are at most
+  // `reach` apart in index (the largest stride; a periodic wrap along the last axis links the
+  // grid's first and last layers, which the first and last threads do before their sweeps). A
+  // CTU body reads the faces of its cell and of its face neighbours (a wrap along another axis
+  // included: less than `reach` away), each owned by its plus cell: less than 2 reach from it,
+  // ahead or behind; a face reads the cells within reach of its owner.
+  template <class Finish>
+  bool advance(const Projection& projection, const NodalField& from, double t, double dt,
+               Finish&& finish) const {
+    const auto project_one = [&](int c) {
+      if (disc_.occupied(c))
+        project_cell(c, *projection.qp, *projection.mass,
+                     projection.q->template middleCols<npc>(c * npc));
+    };
     const int reach = stride_[dim - 1];
+    if (scheme_ == FluxScheme::dcu) {
+      const auto body = [&](int c, Sweep& sweep) {
+        CellBlock out;
+        advance_cell<FluxScheme::dcu>(c, from, t, dt, sweep, out);
+        finish(c, out, sweep);
+      };
+      if (!projection.qp) return sweep_cells(body);
+      return sweep_cells(body, Ahead{reach, reach, project_one});
+    }
+    if constexpr (dim > 1) {
+      const auto body = [&](int c, Sweep& sweep) {
+        CellBlock out;
+        advance_cell<FluxScheme::ctu>(c, from, t, dt, sweep, out);
+        finish(c, out, sweep);
+      };
+      const auto faces = [&](int c) { own_faces(c, from, t, dt); };
+      if (!projection.qp) return sweep_cells(body, Ahead{2 * reach, 2 * reach, faces});
+      return sweep_cells(body, Ahead{3 * reach, 3 * reach, project_one},
+                         Ahead{2 * reach, 2 * reach, faces});
+    }
+    return true;
+  }
+
+  // Calls body(c, sweep) on every occupied cell, on threads over contiguous ranges of cells, with
+  // the work ahead of it; returns whether every block the bodies checked (Sweep::check) is finite.
+  template <class Body, class... Work>
+  bool sweep_cells(Body&& body, const Ahead<Work>&... ahead) const {
+    const int n = disc_.num_cells();
     int threads = 1;
 #ifdef _OPENMP
     if (threaded()) threads = omp_get_max_threads();
@@ -300,29 +313,26 @@ class DGOperator {
 #endif
       Sweep sweep;
       sweep.begin = static_cast<int>(static_cast<long>(n) * thread / team);
-      const int end = static_cast<int>(static_cast<long>(n) * (thread + 1) / team);
-      const auto project_one = [&](int c) {
-        if (disc_.occupied(c))
-          project_cell(c, *projection.qp, *projection.mass,
-                       projection.q->template middleCols<npc>(c * npc));
-      };
-      // Cells [ahead_begin, ahead_end) are projected during the sweep, the others before it.
-      int ahead_begin = sweep.begin, ahead_end = sweep.begin;
-      if (projection.qp) {
-        ahead_begin = std::min(sweep.begin + reach, end);
-        ahead_end = std::max(end - reach, ahead_begin);
-        for (int c = sweep.begin; c < ahead_begin; ++c) project_one(c);
-        for (int c = ahead_end; c < end; ++c) project_one(c);
+      sweep.end = static_cast<int>(static_cast<long>(n) * (thread + 1) / team);
+      [[maybe_unused]] const auto before = [&](const auto& a) {
+        const int head = std::min(sweep.begin + a.lead, sweep.end);
+        for (int c = sweep.begin; c < head; ++c) a.work(c);
+        for (int c = std::max(sweep.end - a.tail, head); c < sweep.end; ++c) a.work(c);
 #pragma omp barrier
-      }
+      };
+      (before(ahead), ...);
       State* slots = star_cache_.data() + per_thread * thread;
       for (int l = 0; l < dim; ++l) {
         sweep.stars[l] = slots;
         slots += stride_[l];
       }
       for (int l = 0; l < dim; ++l) sweep.slot[l] = sweep.begin % stride_[l];
-      for (int c = sweep.begin; c < end; ++c) {
-        if (c + reach >= ahead_begin && c + reach < ahead_end) project_one(c + reach);
+      for (int c = sweep.begin; c < sweep.end; ++c) {
+        [[maybe_unused]] const auto during = [&](const auto& a) {
+          const int x = c + a.lead;
+          if (x >= sweep.begin + a.lead && x < sweep.end - a.tail) a.work(x);
+        };
+        (during(ahead), ...);
         if (disc_.occupied(c)) body(c, sweep);
         for (int l = 0; l < dim; ++l)
           if (++sweep.slot[l] == stride_[l]) sweep.slot[l] = 0;
@@ -339,22 +349,37 @@ class DGOperator {
     return slots;
   }
 
-  // Cell c's residual (DCU): the volume term, then its faces axis by axis (each node receives one
-  // face per axis: the lower face's nodes have bit l clear), as residual() sums them.
+  // CTU: the star states and entering fluctuations of the faces cell c owns (it is their plus
+  // cell, or their only cell on a grid side), where a side is occupied.
+  void own_faces(int c, const NodalField& qn, double t, double dt) const {
+    for (int l = 0; l < dim; ++l) {
+      store_face(l, cell_faces_[l][2 * c], qn, t, dt);
+      const int upper = cell_faces_[l][2 * c + 1];
+      if (face_cells_[l][upper].second < 0) store_face(l, upper, qn, t, dt);
+    }
+  }
+  void store_face(int l, int f, const NodalField& qn, double t, double dt) const {
+    State star;
+    if (!face_star(l, f, qn, t, star)) return;
+    star_[l].col(f) = star;
+    const auto [cm, cp] = face_cells_[l][f];
+    for (int side = 0; side < 2; ++side)
+      if (occupied(side ? cp : cm))
+        fluctuation_[l].col(2 * f + side) = entering_fluctuation(l, f, star, qn, dt, side);
+  }
+
+  // Cell c's residual: the volume term, then its faces axis by axis (each node receives one face
+  // per axis: the lower face's nodes have bit l clear), as the face-by-face composition sums them.
+  template <FluxScheme scheme>
   [[gnu::always_inline]] inline void cell_residual(int c, const NodalField& qn, double t,
                                                    const Sweep& sweep, CellBlock& rc) const {
     rc.setZero();
     const auto& mat = disc_.cell_material(c);
     const auto q = qn.template middleCols<npc>(c * npc);
-    CellBlock flux;
-    for (int l = 0; l < dim; ++l) {
-      for (int a = 0; a < npc; ++a) flux.col(a) = Physics::specific_flux(l, q.col(a), mat);
-      rc.noalias() += flux * disc_.stiffness(c, l).transpose();
-    }
+    add_volume_term(c, q, rc);
     for (int l = 0; l < dim; ++l) {
       const double w = face_weight_[l];
       for (int up = 0; up < 2; ++up) {
-        // face_star's star, from this side: the same Riemann problem as the other cell solves.
         const int f = cell_faces_[l][2 * c + up];
         const auto [cm, cp] = face_cells_[l][f];
         const int o = up ? cp : cm;
@@ -362,7 +387,10 @@ class DGOperator {
         State& slot = sweep.stars[l][sweep.slot[l]];  // o = c - stride_l shares it
         if (!up && o == c - stride_[l] && o >= sweep.begin && occupied(o)) {
           star = slot;  // solved by o, as its upper face, just before
+        } else if constexpr (scheme == FluxScheme::ctu) {
+          star = star_[l].col(f) + transverse_correction(l, f, fluctuation_);
         } else {
+          // face_star's star, from this side: the same Riemann problem as the other cell solves.
           const State mine = edge_average(q, l, up);
           const State theirs = occupied(o) ? edge_state(qn, o, l, !up) : State::Zero();
           const State* other = occupied(o) ? &theirs : nullptr;
@@ -381,11 +409,13 @@ class DGOperator {
     }
   }
 
-  // out = q_c + dt M^-1 r_c, massless nodes as in update().
+  // out = q_c + dt M^-1 r_c: a massless node's residual goes to the node standing in for it, and
+  // it copies that node's value after the update.
+  template <FluxScheme scheme>
   [[gnu::always_inline]] inline void advance_cell(int c, const NodalField& qn, double t, double dt,
                                                   const Sweep& sweep, CellBlock& out) const {
     CellBlock rc;
-    cell_residual(c, qn, t, sweep, rc);
+    cell_residual<scheme>(c, qn, t, sweep, rc);
     if (disc_.has_massless_nodes())
       for (int a = 0; a < npc; ++a) {
         const int s = disc_.source_corner(c * npc + a);
@@ -423,13 +453,6 @@ class DGOperator {
     for (int a = 0; a < npc; ++a) {
       const int s = disc_.source_corner(c * npc + a);
       if (s != a) block.col(a) = block.col(s);
-    }
-  }
-
-  void copy_massless(int c, NodalField& q) const {
-    for (int a = 0; a < npc; ++a) {
-      const int s = disc_.source_corner(c * npc + a);
-      if (s != a) q.col(c * npc + a) = q.col(c * npc + s);
     }
   }
 
@@ -563,95 +586,6 @@ class DGOperator {
     return boundary_star(l, f, *plus, disc_.cell_material(cp), 0, t);
   }
 
-  // Star state of face f along l; false when neither side is occupied.
-  bool face_star(int l, int f, const NodalField& qn, double t, State& star) const {
-    const auto [cm, cp] = face_cells_[l][f];
-    const bool here = occupied(cm), there = occupied(cp);
-    if (!here && !there) return false;
-    const State minus = here ? edge_state(qn, cm, l, 1) : State::Zero();
-    const State plus = there ? edge_state(qn, cp, l, 0) : State::Zero();
-    star = star_of(l, f, here ? &minus : nullptr, there ? &plus : nullptr, t);
-    return true;
-  }
-
-  // The minus cell's face nodes receive -w F_n(q*), the plus cell's +w F_n(q*), each side with
-  // its own material.
-  void distribute(int l, int f, const State& star, NodalField& r) const {
-    const auto [cm, cp] = face_cells_[l][f];
-    const double w = face_weight_[l];
-    if (occupied(cm)) {
-      const State fl = w * Physics::flux(l, star, disc_.cell_material(cm));
-      for (int a = 0; a < npc; ++a)
-        if ((a >> l) & 1) r.col(cm * npc + a) -= fl;
-    }
-    if (occupied(cp)) {
-      const State fl = w * Physics::flux(l, star, disc_.cell_material(cp));
-      for (int a = 0; a < npc; ++a)
-        if (!((a >> l) & 1)) r.col(cp * npc + a) += fl;
-    }
-  }
-
-  // CTU in two passes over the faces, each on threads: the star states and the fluctuations
-  // entering each side (times dt / (2 h)) of every axis, then each face's flux from its star state
-  // plus its transverse correction, gathered (not scattered) from the fluctuations that entered
-  // its two cells: every sum in a fixed order, whatever the threads.
-  void ctu_fluxes(const NodalField& qn, double t, double dt, NodalField& r) const {
-    for (int l = 0; l < dim; ++l) {
-      const double k = dt / (2.0 * grid_.cell_size[l]);
-#pragma omp parallel for schedule(static) if (threaded())
-      for (int f = 0; f < num_faces(l); ++f) {
-        State star;
-        if (!face_star(l, f, qn, t, star)) star.setZero();
-        star_[l].col(f) = star;
-        const auto [cm, cp] = face_cells_[l][f];
-        for (int side = 0; side < 2; ++side) {  // into the minus cell (A^-dq), the plus (A^+dq)
-          const int c = side ? cp : cm;
-          fluctuation_[l].col(2 * f + side) =
-              occupied(c) ? State(k * Physics::fluctuation(l, star, edge_state(qn, c, l, !side),
-                                                           disc_.cell_material(c), side))
-                          : State::Zero();
-        }
-      }
-    }
-    for (int l = 0; l < dim; ++l) {
-#pragma omp parallel for schedule(static) if (threaded())
-      for (int f = 0; f < num_faces(l); ++f) {
-        const auto [cm, cp] = face_cells_[l][f];
-        if (occupied(cm) || occupied(cp))
-          distribute(l, f, State(star_[l].col(f) + transverse_correction(l, f)), r);
-      }
-    }
-  }
-
-  // The correction of face g normal to t: each fluctuation that entered one of g's cells through
-  // a face normal to another axis sends transverse waves across g. Against a boundary (grid side
-  // or void cell) the mirror image of the cell sends its part back in.
-  State transverse_correction(int t, int g) const {
-    State correction = State::Zero();
-    const auto [gm, gp] = face_cells_[t][g];
-    for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
-      const int c = up ? gm : gp, o = up ? gp : gm;
-      if (!occupied(c)) continue;
-      const auto& mat = disc_.cell_material(c);
-      for (int l = 0; l < dim; ++l) {
-        if (l == t) continue;
-        for (int side = 0; side < 2; ++side) {
-          // c's face on `side` along l; c is its plus cell when it is c's lower face.
-          const int f = cell_faces_[l][2 * c + side];
-          const State w = fluctuation_[l].col(2 * f + (side == 0));
-          if (occupied(o)) {
-            correction -= Physics::transverse(t, w, mat, disc_.cell_material(o), up);
-          } else {
-            const State mirrored = Physics::reflect(mirror_kind(t, g), t, w);
-            correction -= Physics::transverse(t, w, mat, mat, up) +
-                          Physics::transverse(t, mirrored, mat, mat, !up);
-          }
-        }
-      }
-    }
-    return correction;
-  }
-
   const Grid<dim>& grid_;
   const Disc& disc_;
   FluxScheme scheme_;
@@ -664,10 +598,9 @@ class DGOperator {
   std::vector<std::pair<const Table*, double>> parts_;
   std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity
   // CTU only: star states of the faces of each axis and the fluctuations entering their sides
-  // (column 2 f: into the minus cell, 2 f + 1: into the plus cell); the residual and a stage's
-  // nodal values.
-  mutable std::array<NodalField, dim> star_, fluctuation_;
-  mutable NodalField residual_, scratch_;
+  // (column 2 f: into the minus cell, 2 f + 1: into the plus cell).
+  mutable std::array<NodalField, dim> star_;
+  mutable FaceFluctuations fluctuation_;
   // Fused stages: cell index stride along each axis, and each thread's upper-face star states.
   std::array<int, dim> stride_{};
   mutable std::vector<State> star_cache_;

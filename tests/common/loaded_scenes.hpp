@@ -60,6 +60,19 @@ inline nlohmann::json loaded_plate(int nx, int ny, double h, int ppc, const std:
           {"particles_move", move}};
 }
 
+// The plate's bodies stretched to the top of its grid, the soft one to its right side (so that
+// periodic wraps link occupied cells).
+inline nlohmann::json filled(nlohmann::json doc) {
+  const auto& grid = doc["grid"];
+  const double top = grid["origin"][1].get<double>() +
+                     grid["cells"][1].get<double>() * grid["cell_size"][1].get<double>();
+  const double right = grid["origin"][0].get<double>() +
+                       grid["cells"][0].get<double>() * grid["cell_size"][0].get<double>();
+  for (auto& body : doc["bodies"]) body["box"]["max"][1] = top;
+  doc["bodies"].back()["box"]["max"][0] = right;
+  return doc;
+}
+
 // The scene with the grid periodic along the axes marked true, their boundaries removed.
 inline nlohmann::json periodic(nlohmann::json doc, const std::vector<bool>& axes) {
   const char* sides[3][2] = {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}};
