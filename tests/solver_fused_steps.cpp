@@ -70,12 +70,13 @@ struct Unfused {
   }
 
   // Volume terms cell by cell, then every face's flux scattered to its two cells' face nodes.
-  void residual(const NodalField& q, double t, double dt, NodalField& r) const {
+  void residual(const NodalField& q, const Eigen::VectorXd& mass, double t, double dt,
+                NodalField& r) const {
     r.setZero(Physics::n_comp, op.num_nodes());
     for (int c = 0; c < disc.num_cells(); ++c) {
       if (!disc.occupied(c)) continue;
       typename Op::CellBlock rc = Op::CellBlock::Zero();
-      op.add_volume_term(c, q.template middleCols<npc>(c * npc), rc);
+      op.add_volume_term(c, q.template middleCols<npc>(c * npc), mass, rc);
       r.template middleCols<npc>(c * npc) = rc;
     }
     std::array<NodalField, dim> star;
@@ -167,14 +168,14 @@ double largest_difference(const json& doc, int steps) {
     const double t = n * dt;
     stepper.step(fused, mass, t, dt);
     reference.project(unfused, mass, q0);
-    reference.residual(q0, t, dt, r);
+    reference.residual(q0, mass, t, dt, r);
     if (options.time == TimeScheme::euler) {
       reference.update(q0, r, dt);
       reference.interpolate(q0, unfused);
     } else {
       q1 = q0;
       reference.update(q1, r, dt);
-      reference.residual(q1, t + dt, dt, r);
+      reference.residual(q1, mass, t + dt, dt, r);
       reference.update(q1, r, dt);
       q0 = 0.5 * (q0 + q1);
       reference.interpolate(q0, unfused);

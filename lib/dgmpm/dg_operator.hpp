@@ -98,7 +98,7 @@ class DGOperator {
   bool project_and_advance_to_particles(ParticleField& qp, const Eigen::VectorXd& mass, double t,
                                         double dt, NodalField& q) const {
     q.resize(ncomp, num_nodes());
-    return advance(Projection{&qp, &mass, &q}, q, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
+    return advance(Projection{&qp, &q}, mass, q, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       interpolate_cell(c, out, qp);
       sweep.check(out);
     });
@@ -109,14 +109,14 @@ class DGOperator {
                            double dt, NodalField& q0, NodalField& q1) const {
     q0.resize(ncomp, num_nodes());
     q1.resize(ncomp, num_nodes());
-    advance(Projection{&qp, &mass, &q0}, q0, t, dt,
+    advance(Projection{&qp, &q0}, mass, q0, t, dt,
             [&](int c, CellBlock& out, Sweep&) { q1.template middleCols<npc>(c * npc) = out; });
   }
 
   // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2.
-  bool average_to_particles(const NodalField& q0, const NodalField& q1, double t, double dt,
-                            ParticleField& qp) const {
-    return advance(Projection{}, q1, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
+  bool average_to_particles(const NodalField& q0, const NodalField& q1, const Eigen::VectorXd& mass,
+                            double t, double dt, ParticleField& qp) const {
+    return advance(Projection{}, mass, q1, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
       interpolate_cell(c, out, qp);
       sweep.check(out);
@@ -132,14 +132,16 @@ class DGOperator {
   // Each face node's share of the lumped edge integral.
   double face_weight(int l) const { return face_weight_[l]; }
 
-  // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns).
+  // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns),
+  // `mass` the particles' masses.
   template <class Block>
-  void add_volume_term(int c, const Block& q, CellBlock& rc) const {
+  void add_volume_term(int c, const Block& q, const Eigen::VectorXd& mass, CellBlock& rc) const {
     const auto& mat = disc_.cell_material(c);
+    const auto stiffness = disc_.stiffness(c, mass);
     CellBlock flux;
     for (int l = 0; l < dim; ++l) {
       for (int a = 0; a < npc; ++a) flux.col(a) = Physics::specific_flux(l, q.col(a), mat);
-      rc.noalias() += flux * disc_.stiffness(c, l).transpose();
+      rc.noalias() += flux * stiffness[l].transpose();
     }
   }
 
@@ -240,7 +242,6 @@ class DGOperator {
   // Particles projected by a sweep on the fly (none when qp is null).
   struct Projection {
     const ParticleField* qp = nullptr;
-    const Eigen::VectorXd* mass = nullptr;
     NodalField* q = nullptr;
   };
 
@@ -252,6 +253,12 @@ class DGOperator {
     int lead, tail;
     Work work;
   };
+  // (A function rather than deduction from the aggregate: clang 14 deduces neither for a member
+  // template of a class template.)
+  template <class Work>
+  static Ahead<Work> ahead(int lead, int tail, Work work) {
+    return {lead, tail, work};
+  }
 
   // One stage: out = q_c + dt M^-1 r_c(from, t) on every occupied cell c, then finish(c, out,
   // sweep). How far ahead the projection and CTU's faces run: the cells a face links are at most
@@ -261,33 +268,32 @@ class DGOperator {
   // included: less than `reach` away), each owned by its plus cell: less than 2 reach from it,
   // ahead or behind; a face reads the cells within reach of its owner.
   template <class Finish>
-  bool advance(const Projection& projection, const NodalField& from, double t, double dt,
-               Finish&& finish) const {
+  bool advance(const Projection& projection, const Eigen::VectorXd& mass, const NodalField& from,
+               double t, double dt, Finish&& finish) const {
     const auto project_one = [&](int c) {
       if (disc_.occupied(c))
-        project_cell(c, *projection.qp, *projection.mass,
-                     projection.q->template middleCols<npc>(c * npc));
+        project_cell(c, *projection.qp, mass, projection.q->template middleCols<npc>(c * npc));
     };
     const int reach = stride_[dim - 1];
     if (scheme_ == FluxScheme::dcu) {
       const auto body = [&](int c, Sweep& sweep) {
         CellBlock out;
-        advance_cell<FluxScheme::dcu>(c, from, t, dt, sweep, out);
+        advance_cell<FluxScheme::dcu>(c, from, mass, t, dt, sweep, out);
         finish(c, out, sweep);
       };
       if (!projection.qp) return sweep_cells(body);
-      return sweep_cells(body, Ahead{reach, reach, project_one});
+      return sweep_cells(body, ahead(reach, reach, project_one));
     }
     if constexpr (dim > 1) {
       const auto body = [&](int c, Sweep& sweep) {
         CellBlock out;
-        advance_cell<FluxScheme::ctu>(c, from, t, dt, sweep, out);
+        advance_cell<FluxScheme::ctu>(c, from, mass, t, dt, sweep, out);
         finish(c, out, sweep);
       };
       const auto faces = [&](int c) { own_faces(c, from, t, dt); };
-      if (!projection.qp) return sweep_cells(body, Ahead{2 * reach, 2 * reach, faces});
-      return sweep_cells(body, Ahead{3 * reach, 3 * reach, project_one},
-                         Ahead{2 * reach, 2 * reach, faces});
+      if (!projection.qp) return sweep_cells(body, ahead(2 * reach, 2 * reach, faces));
+      return sweep_cells(body, ahead(3 * reach, 3 * reach, project_one),
+                         ahead(2 * reach, 2 * reach, faces));
     }
     return true;
   }
@@ -371,12 +377,13 @@ class DGOperator {
   // Cell c's residual: the volume term, then its faces axis by axis (each node receives one face
   // per axis: the lower face's nodes have bit l clear), as the face-by-face composition sums them.
   template <FluxScheme scheme>
-  [[gnu::always_inline]] inline void cell_residual(int c, const NodalField& qn, double t,
+  [[gnu::always_inline]] inline void cell_residual(int c, const NodalField& qn,
+                                                   const Eigen::VectorXd& mass, double t,
                                                    const Sweep& sweep, CellBlock& rc) const {
     rc.setZero();
     const auto& mat = disc_.cell_material(c);
     const auto q = qn.template middleCols<npc>(c * npc);
-    add_volume_term(c, q, rc);
+    add_volume_term(c, q, mass, rc);
     for (int l = 0; l < dim; ++l) {
       const double w = face_weight_[l];
       for (int up = 0; up < 2; ++up) {
@@ -412,10 +419,11 @@ class DGOperator {
   // out = q_c + dt M^-1 r_c: a massless node's residual goes to the node standing in for it, and
   // it copies that node's value after the update.
   template <FluxScheme scheme>
-  [[gnu::always_inline]] inline void advance_cell(int c, const NodalField& qn, double t, double dt,
+  [[gnu::always_inline]] inline void advance_cell(int c, const NodalField& qn,
+                                                  const Eigen::VectorXd& mass, double t, double dt,
                                                   const Sweep& sweep, CellBlock& out) const {
     CellBlock rc;
-    cell_residual<scheme>(c, qn, t, sweep, rc);
+    cell_residual<scheme>(c, qn, mass, t, sweep, rc);
     if (disc_.has_massless_nodes())
       for (int a = 0; a < npc; ++a) {
         const int s = disc_.source_corner(c * npc + a);

@@ -1,8 +1,8 @@
 #pragma once
 // Everything the DGMPM operators need from one particle configuration: which particles each cell
-// holds, their local coordinates (shape values follow from them), lumped nodal masses,
-// pseudo-stiffness matrices and cell materials (docs/method.md, "Discretisation"). Built once for
-// fixed particles, rebuilt after every move otherwise.
+// holds, their local coordinates (shape values and pseudo-stiffness matrices follow from them),
+// lumped nodal masses and cell materials (docs/method.md, "Discretisation"). Built once for fixed
+// particles, rebuilt after every move otherwise.
 
 #include "grid.hpp"
 #include "particles.hpp"
@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -96,7 +97,8 @@ class Discretisation {
     node_mass_.setZero(grid.num_nodes());
     inv_mass_.setZero(grid.num_nodes());
     source_corner_.assign(grid.num_nodes(), -1);
-    stiffness_.resize(static_cast<std::size_t>(nc) * dim);
+    if (fill_correction_) stiffness_scale_.resize(nc);
+    cell_size_ = grid.cell_size;
     cell_material_.resize(nc);
     table_.assign(materials.begin(), materials.end());  // this build's blends follow
     occupied_.assign(nc, 0);
@@ -106,17 +108,12 @@ class Discretisation {
     bool massless = false;
 #pragma omp parallel for reduction(min : first_overfull) reduction(|| : massless) if (threaded)
     for (int c = 0; c < nc; ++c) {
-      for (int l = 0; l < dim; ++l) stiffness_[c * dim + l].setZero();
       double cell_mass = 0.0;
       int pure = -1;  // the material every particle so far carries; kMixed once several
       for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
         const int p = entries_[e];
         const double m = particles.mass[p];
-        const auto s = Shape::values(local_.col(p));
-        const auto g = Shape::gradients(local_.col(p), grid.cell_size);
-        node_mass_.segment<npc>(c * npc) += m * s;
-        for (int l = 0; l < dim; ++l)
-          stiffness_[c * dim + l] += m * g.row(l).transpose() * s.transpose();
+        node_mass_.segment<npc>(c * npc) += m * Shape::values(local_.col(p));
         const int k = particles.material[p];
         if (cell_mass == 0.0) pure = k;
         if (k != pure) pure = kMixed;
@@ -185,8 +182,22 @@ class Discretisation {
   const Material& cell_material(int c) const {
     return table_[cell_material_[c]];
   }
-  const Stiffness& stiffness(int c, int axis) const {
-    return stiffness_[c * dim + axis];
+  // Cell c's pseudo-stiffness matrices, one per axis: K^l = sum_p m_p grad_l S(x_p) S(x_p)^T
+  // (times rho V / m_c under the fill correction), `mass` the masses of the particles built from.
+  // Computed when asked from the cell's particles: a few products per particle, where storing
+  // them cost npc^2 doubles per cell and axis (256 bytes per cell in 2D).
+  std::array<Stiffness, dim> stiffness(int c, const Eigen::VectorXd& mass) const {
+    std::array<Stiffness, dim> k;
+    for (auto& kl : k) kl.setZero();
+    for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
+      const int p = entries_[e];
+      const auto s = Shape::values(local_.col(p));
+      const auto g = Shape::gradients(local_.col(p), cell_size_);
+      for (int l = 0; l < dim; ++l) k[l] += mass[p] * g.row(l).transpose() * s.transpose();
+    }
+    if (fill_correction_)
+      for (auto& kl : k) kl *= stiffness_scale_[c];
+    return k;
   }
   double node_mass(int i) const {
     return node_mass_[i];
@@ -262,10 +273,8 @@ class Discretisation {
   // The over-full check and the fill correction of an occupied cell whose material is set.
   void finish_cell(int c, double cell_mass, int& first_overfull) {
     if (fill(c) > 1.0 + overfull_tolerance) first_overfull = std::min(first_overfull, c);
-    if (fill_correction_) {
-      const double full = Physics::density(cell_material(c)) * cell_volume_;
-      for (int l = 0; l < dim; ++l) stiffness_[c * dim + l] *= full / cell_mass;
-    }
+    if (fill_correction_)
+      stiffness_scale_[c] = Physics::density(cell_material(c)) * cell_volume_ / cell_mass;
   }
 
   static constexpr int kMixed = -2;  // cell_material_ of a mixed cell before its blend
@@ -275,7 +284,8 @@ class Discretisation {
   std::vector<int> cell_begin_, entries_;
   Eigen::VectorXd node_mass_, inv_mass_;
   std::vector<signed char> source_corner_;
-  std::vector<Stiffness> stiffness_;
+  std::vector<double> stiffness_scale_;  // rho V / m_c, under the fill correction only
+  typename Grid<dim>::Vec cell_size_ = Grid<dim>::Vec::Ones();
   std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
   std::vector<int> cell_material_;  // index into table_
   std::vector<char> occupied_;

@@ -38,7 +38,7 @@ class HeunRK2 {
   bool step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
     op.project_and_advance(qp, mass, t, dt, q0_, q1_);
-    return op.average_to_particles(q0_, q1_, t + dt, dt, qp);
+    return op.average_to_particles(q0_, q1_, mass, t + dt, dt, qp);
   }
 
  private:
