@@ -4,6 +4,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ "${DGMPM_SKIP_SETUP:-0}" = 1 ] || bash scripts/setup.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDGMPM_MPI=ON >/dev/null
 cmake --build build -j"$(nproc)" --target dgmpm  # the binary only, not the test programs
 build/bin/dgmpm run "$@"

@@ -1,0 +1,123 @@
+#pragma once
+// Block decomposition of a grid over ranks laid out as a Cartesian array (docs/distributed.md):
+// each rank owns a box of cells, contiguous along every axis and balanced to within one layer,
+// and reads one ghost layer of cells around it (DCU couples face neighbours, CTU corner
+// neighbours too). Rank numbers and coordinates follow MPI's Cartesian topologies (the first axis
+// varies slowest), so MPI_Cart_create's ranks and this decomposition agree; nothing here calls
+// MPI.
+
+#include "grid.hpp"
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+namespace dgmpm {
+
+template <int Dim>
+struct BlockDecomposition {
+  using Index = std::array<int, Dim>;
+
+  Index cells{};  // the grid's cells along each axis
+  Index ranks{};  // ranks along each axis
+  std::array<bool, Dim> periodic{};
+
+  BlockDecomposition() = default;
+  // Throws std::invalid_argument when an axis would have more ranks than cells.
+  BlockDecomposition(const Grid<Dim>& grid, const Index& rank_layout)
+      : cells(grid.cells), ranks(rank_layout), periodic(grid.periodic) {
+    for (int l = 0; l < Dim; ++l)
+      if (ranks[l] < 1 || ranks[l] > cells[l])
+        throw std::invalid_argument("decomposition: " + std::to_string(ranks[l]) +
+                                    " ranks along axis " + std::to_string(l) + " of " +
+                                    std::to_string(cells[l]) + " cells (allowed: 1 to the cells)");
+  }
+
+  int num_ranks() const {
+    int n = 1;
+    for (int l = 0; l < Dim; ++l) n *= ranks[l];
+    return n;
+  }
+
+  // The first cell along `axis` of block k (k = ranks[axis]: one past the last cell), split as
+  // OpenMP's threads split their ranges: sizes differ by one at most.
+  int first_cell(int axis, int k) const {
+    return static_cast<int>(static_cast<long>(cells[axis]) * k / ranks[axis]);
+  }
+  // The block along `axis` that owns cell i: the largest k with first_cell(axis, k) <= i.
+  int block_of(int axis, int i) const {
+    return static_cast<int>((static_cast<long>(i + 1) * ranks[axis] - 1) / cells[axis]);
+  }
+
+  // Rank from coordinates (MPI_Cart_rank's order), wrapping periodic axes; -1 past a
+  // non-periodic side.
+  int rank(Index coords) const {
+    int r = 0;
+    for (int l = 0; l < Dim; ++l) {
+      if (coords[l] < 0 || coords[l] >= ranks[l]) {
+        if (!periodic[l]) return -1;
+        coords[l] = (coords[l] % ranks[l] + ranks[l]) % ranks[l];
+      }
+      r = r * ranks[l] + coords[l];
+    }
+    return r;
+  }
+  Index coords(int rank) const {
+    Index k{};
+    for (int l = Dim - 1; l >= 0; --l) {
+      k[l] = rank % ranks[l];
+      rank /= ranks[l];
+    }
+    return k;
+  }
+  // The rank at offset (each entry -1, 0 or 1) from `rank`: face neighbours have one non-zero
+  // entry, edge and corner neighbours more; -1 past a non-periodic side.
+  int neighbour(int rank, const Index& offset) const {
+    Index k = coords(rank);
+    for (int l = 0; l < Dim; ++l) k[l] += offset[l];
+    return this->rank(k);
+  }
+
+  // The cells `rank` owns: [lower, upper) along each axis.
+  Index lower(int rank) const {
+    const Index k = coords(rank);
+    Index lo{};
+    for (int l = 0; l < Dim; ++l) lo[l] = first_cell(l, k[l]);
+    return lo;
+  }
+  Index upper(int rank) const {
+    const Index k = coords(rank);
+    Index hi{};
+    for (int l = 0; l < Dim; ++l) hi[l] = first_cell(l, k[l] + 1);
+    return hi;
+  }
+  int owned_cells(int rank) const {
+    const Index lo = lower(rank), hi = upper(rank);
+    int n = 1;
+    for (int l = 0; l < Dim; ++l) n *= hi[l] - lo[l];
+    return n;
+  }
+  // Whether cell k is in `rank`'s ghost layer: not its own, and at most one cell away from its
+  // box along every axis (across a periodic side too). The step reads these from other ranks.
+  bool in_ghost_layer(int rank, const Index& k) const {
+    const Index lo = lower(rank), hi = upper(rank);
+    bool outside = false;
+    for (int l = 0; l < Dim; ++l) {
+      if (k[l] >= lo[l] && k[l] < hi[l]) continue;
+      const bool below = k[l] == lo[l] - 1 || (periodic[l] && lo[l] == 0 && k[l] == cells[l] - 1);
+      const bool above = k[l] == hi[l] || (periodic[l] && hi[l] == cells[l] && k[l] == 0);
+      if (!below && !above) return false;
+      outside = true;
+    }
+    return outside;
+  }
+
+  // The rank owning the cell with grid index k.
+  int owner(const Index& k) const {
+    Index b{};
+    for (int l = 0; l < Dim; ++l) b[l] = block_of(l, k[l]);
+    return rank(b);
+  }
+};
+
+}  // namespace dgmpm

@@ -1,0 +1,141 @@
+// Block decomposition of a grid over a Cartesian array of ranks: the blocks tile the grid (each
+// cell owned once, by the rank owner() names), are balanced to one layer, ranks are numbered as
+// MPI_Cart_rank numbers them, neighbours are symmetric and wrap on periodic axes only, and the
+// ghost layer is exactly the cells outside a block that its cells' 3^d stencils reach.
+#define BOOST_TEST_MODULE lib_decomposition
+#include <boost/test/unit_test.hpp>
+
+#include <dgmpm/decomposition.hpp>
+
+#include <set>
+#include <stdexcept>
+#include <vector>
+
+using namespace dgmpm;
+
+namespace {
+
+template <int D>
+Grid<D> grid(const std::array<int, D>& cells, const std::array<bool, D>& periodic) {
+  Grid<D> g;
+  g.cells = cells;
+  g.periodic = periodic;
+  return g;
+}
+
+// Every offset in {-1, 0, 1}^D but zero.
+template <int D>
+std::vector<std::array<int, D>> stencil() {
+  std::vector<std::array<int, D>> out;
+  int n = 1;
+  for (int l = 0; l < D; ++l) n *= 3;
+  for (int m = 0; m < n; ++m) {
+    std::array<int, D> o{};
+    bool zero = true;
+    for (int l = 0, r = m; l < D; ++l, r /= 3) {
+      o[l] = r % 3 - 1;
+      zero = zero && o[l] == 0;
+    }
+    if (!zero) out.push_back(o);
+  }
+  return out;
+}
+
+template <int D>
+void check(const Grid<D>& g, const std::array<int, D>& layout) {
+  const BlockDecomposition<D> b(g, layout);
+  const int nr = b.num_ranks();
+  // Rank numbers: the first axis varies slowest (MPI_Cart_rank's row-major order).
+  for (int r = 0; r < nr; ++r) {
+    const auto k = b.coords(r);
+    int expected = 0;
+    for (int l = 0; l < D; ++l) expected = expected * layout[l] + k[l];
+    BOOST_TEST(expected == r);
+    BOOST_TEST(b.rank(k) == r);
+  }
+  // Balance: along each axis the blocks' sizes differ by one at most, none empty.
+  for (int l = 0; l < D; ++l) {
+    int smallest = g.cells[l], largest = 0;
+    for (int k = 0; k < layout[l]; ++k) {
+      const int size = b.first_cell(l, k + 1) - b.first_cell(l, k);
+      smallest = std::min(smallest, size);
+      largest = std::max(largest, size);
+    }
+    BOOST_TEST(smallest >= 1);
+    BOOST_TEST(largest - smallest <= 1);
+    BOOST_TEST(b.first_cell(l, layout[l]) == g.cells[l]);
+  }
+  // Tiling: each cell in exactly one box, that of owner(); the owned counts add up.
+  std::vector<int> owners(g.num_cells(), 0);
+  long owned = 0;
+  for (int r = 0; r < nr; ++r) {
+    owned += b.owned_cells(r);
+    const auto lo = b.lower(r), hi = b.upper(r);
+    for (int c = 0; c < g.num_cells(); ++c) {
+      const auto k = g.unflatten(c);
+      bool inside = true;
+      for (int l = 0; l < D; ++l) inside = inside && k[l] >= lo[l] && k[l] < hi[l];
+      if (!inside) continue;
+      ++owners[c];
+      BOOST_TEST(b.owner(k) == r);
+    }
+  }
+  BOOST_TEST(owned == g.num_cells());
+  for (int c = 0; c < g.num_cells(); ++c) BOOST_TEST(owners[c] == 1);
+  // Neighbours: symmetric; -1 exactly past a non-periodic side.
+  for (int r = 0; r < nr; ++r)
+    for (const auto& o : stencil<D>()) {
+      const int n = b.neighbour(r, o);
+      auto back = o;
+      for (auto& x : back) x = -x;
+      const auto k = b.coords(r);
+      bool past = false;
+      for (int l = 0; l < D; ++l)
+        past = past || (!g.periodic[l] && (k[l] + o[l] < 0 || k[l] + o[l] >= layout[l]));
+      BOOST_TEST((n < 0) == past);
+      if (n >= 0) BOOST_TEST(b.neighbour(n, back) == r);
+    }
+  // Ghost layer: the cells other ranks own that the owned cells' stencils reach (the grid's
+  // own wrap rules), nothing more.
+  for (int r = 0; r < nr; ++r) {
+    std::set<int> reached;
+    for (int c = 0; c < g.num_cells(); ++c) {
+      if (b.owner(g.unflatten(c)) != r) continue;
+      for (const auto& o : stencil<D>()) {
+        int n = c;
+        for (int l = 0; l < D && n >= 0; ++l)
+          if (o[l] != 0) n = g.neighbour(n, l, o[l] > 0);
+        if (n >= 0 && b.owner(g.unflatten(n)) != r) reached.insert(n);
+      }
+    }
+    for (int c = 0; c < g.num_cells(); ++c)
+      BOOST_TEST(b.in_ghost_layer(r, g.unflatten(c)) == (reached.count(c) == 1),
+                 "rank " << r << " cell " << c);
+  }
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(one_dimension) {
+  for (bool periodic : {false, true})
+    for (int ranks : {1, 2, 3, 7}) check<1>(grid<1>({7}, {periodic}), {ranks});
+}
+
+BOOST_AUTO_TEST_CASE(two_dimensions) {
+  for (bool px : {false, true})
+    for (bool py : {false, true})
+      for (const std::array<int, 2>& layout : {std::array{1, 1}, std::array{2, 3}, std::array{3, 1},
+                                               std::array{4, 2}, std::array{10, 7}})
+        check<2>(grid<2>({10, 7}, {px, py}), layout);
+}
+
+BOOST_AUTO_TEST_CASE(three_dimensions) {
+  check<3>(grid<3>({5, 4, 6}, {false, true, false}), {2, 2, 3});
+  check<3>(grid<3>({5, 4, 6}, {true, true, true}), {1, 2, 2});
+}
+
+BOOST_AUTO_TEST_CASE(more_ranks_than_cells_is_refused) {
+  BOOST_CHECK_THROW(BlockDecomposition<2>(grid<2>({10, 7}, {false, false}), {2, 8}),
+                    std::invalid_argument);
+  BOOST_CHECK_THROW(BlockDecomposition<1>(grid<1>({7}, {false}), {0}), std::invalid_argument);
+}
