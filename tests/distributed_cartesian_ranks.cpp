@@ -5,12 +5,14 @@
 #include <boost/test/unit_test.hpp>
 
 #include "cartesian_ranks.hpp"
+#include "common/grids.hpp"
 
 #include <mpi.h>
 
 #include <stdexcept>
 
 using namespace dgmpm;
+using test::grid;
 
 namespace {
 
@@ -18,14 +20,6 @@ struct MpiSession {
   MpiSession() { MPI_Init(nullptr, nullptr); }
   ~MpiSession() { MPI_Finalize(); }
 };
-
-template <int D>
-Grid<D> grid(const std::array<int, D>& cells, const std::array<bool, D>& periodic) {
-  Grid<D> g;
-  g.cells = cells;
-  g.periodic = periodic;
-  return g;
-}
 
 template <int D>
 void agrees_with_mpi(const Grid<D>& g) {

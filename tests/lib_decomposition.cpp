@@ -5,6 +5,8 @@
 #define BOOST_TEST_MODULE lib_decomposition
 #include <boost/test/unit_test.hpp>
 
+#include "common/grids.hpp"
+
 #include <dgmpm/decomposition.hpp>
 
 #include <set>
@@ -12,16 +14,9 @@
 #include <vector>
 
 using namespace dgmpm;
+using test::grid;
 
 namespace {
-
-template <int D>
-Grid<D> grid(const std::array<int, D>& cells, const std::array<bool, D>& periodic) {
-  Grid<D> g;
-  g.cells = cells;
-  g.periodic = periodic;
-  return g;
-}
 
 // Every offset in {-1, 0, 1}^D but zero.
 template <int D>
