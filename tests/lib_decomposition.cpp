@@ -1,7 +1,8 @@
 // Block decomposition of a grid over a Cartesian array of ranks: the blocks tile the grid (each
 // cell owned once, by the rank owner() names), are balanced to one layer, ranks are numbered as
 // MPI_Cart_rank numbers them, neighbours are symmetric and wrap on periodic axes only, and the
-// ghost layer is exactly the cells outside a block that its cells' 3^d stencils reach.
+// ghost layer is exactly the cells outside a block that its cells' 3^d stencils reach; a rank's
+// window (its block and ghost layers) locates points as the full grid does.
 #define BOOST_TEST_MODULE lib_decomposition
 #include <boost/test/unit_test.hpp>
 
@@ -9,6 +10,7 @@
 
 #include <dgmpm/decomposition.hpp>
 
+#include <random>
 #include <set>
 #include <stdexcept>
 #include <vector>
@@ -107,6 +109,56 @@ void check(const Grid<D>& g, const std::array<int, D>& layout) {
       BOOST_TEST(b.in_ghost_layer(r, g.unflatten(c)) == (reached.count(c) == 1),
                  "rank " << r << " cell " << c);
   }
+  // Windows: a block and `depth` layers around it, locating points as the full grid does (the
+  // same local coordinates, to the bit), holding exactly the cells within `depth` of the block.
+  Grid<D> full = g;
+  full.origin.setConstant(-0.3);
+  full.cell_size.setConstant(0.7);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> fraction(0.0, 1.0);
+  for (int depth : {1, 2})
+    for (int r = 0; r < nr; ++r) {
+      const auto lo = b.lower(r), hi = b.upper(r);
+      bool too_deep = false;
+      for (int l = 0; l < D; ++l)
+        too_deep =
+            too_deep || (g.periodic[l] && layout[l] > 1 && hi[l] - lo[l] + 2 * depth > g.cells[l]);
+      if (too_deep) {
+        BOOST_CHECK_THROW(b.window(full, r, depth), std::invalid_argument);
+        continue;
+      }
+      const Grid<D> w = b.window(full, r, depth);
+      int held = 0;
+      for (int c = 0; c < g.num_cells(); ++c) {
+        const auto k = g.unflatten(c);
+        typename Grid<D>::Vec x, xi_full = Grid<D>::Vec::Zero(), xi_window = xi_full;
+        for (int l = 0; l < D; ++l)
+          x[l] = full.origin[l] + (k[l] + fraction(rng)) * full.cell_size[l];
+        BOOST_TEST_REQUIRE(full.locate(x, xi_full) == c);
+        const int cw = w.locate(x, xi_window);
+        bool near = true;  // within depth of the block along every axis
+        for (int l = 0; l < D; ++l) {
+          const int n = g.cells[l];
+          int below = lo[l] - k[l], above = k[l] - (hi[l] - 1);
+          if (g.periodic[l]) {
+            below = (below % n + n) % n;
+            above = (above % n + n) % n;
+          }
+          const bool in_block = k[l] >= lo[l] && k[l] < hi[l];
+          near = near && (in_block || w.periodic[l] || (below > 0 && below <= depth) ||
+                          (above > 0 && above <= depth));
+        }
+        BOOST_TEST((cw >= 0) == near, "rank " << r << " depth " << depth << " cell " << c);
+        if (cw < 0) continue;
+        ++held;
+        BOOST_TEST(((xi_window.array() == xi_full.array()).all()));
+        const auto kw = w.unflatten(cw);
+        for (int l = 0; l < D; ++l)
+          BOOST_TEST(((w.first[l] + kw[l]) % g.cells[l] + g.cells[l]) % g.cells[l] == k[l]);
+        if (depth == 1) BOOST_TEST((b.owner(k) == r || b.in_ghost_layer(r, k)));
+      }
+      BOOST_TEST(held == w.num_cells());  // each window cell is a distinct cell of the grid
+    }
 }
 
 }  // namespace

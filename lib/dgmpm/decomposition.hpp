@@ -8,6 +8,7 @@
 
 #include "grid.hpp"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <string>
@@ -110,6 +111,37 @@ struct BlockDecomposition {
       outside = true;
     }
     return outside;
+  }
+
+  // The window (grid.hpp) onto `grid` holding `rank`'s block and `depth` layers of cells around
+  // it, clipped at non-periodic sides; periodic along an axis only if one rank spans it. Throws
+  // std::invalid_argument when, along a periodic axis shared by several ranks, the block and its
+  // layers would hold a cell twice.
+  Grid<Dim> window(const Grid<Dim>& grid, int rank, int depth) const {
+    Grid<Dim> w = grid;
+    const Index lo = lower(rank), hi = upper(rank);
+    for (int l = 0; l < Dim; ++l) {
+      w.full.cells[l] = cells[l];
+      w.full.periodic[l] = periodic[l];
+      w.periodic[l] = periodic[l] && ranks[l] == 1;
+      int begin = lo[l] - depth, end = hi[l] + depth;
+      if (w.periodic[l]) {
+        begin = 0;
+        end = cells[l];
+      } else if (!periodic[l]) {
+        begin = std::max(begin, 0);
+        end = std::min(end, cells[l]);
+      } else if (end - begin > cells[l]) {
+        throw std::invalid_argument("decomposition: a block of " + std::to_string(hi[l] - lo[l]) +
+                                    " cells and " + std::to_string(depth) +
+                                    " ghost layers on each side exceed the " +
+                                    std::to_string(cells[l]) + " cells of periodic axis " +
+                                    std::to_string(l) + " (allowed: fewer ranks along it)");
+      }
+      w.first[l] = begin;
+      w.cells[l] = end - begin;
+    }
+    return w;
   }
 
   // The rank owning the cell with grid index k.

@@ -505,7 +505,7 @@ class DGOperator {
     const BoundarySide<dim>& bs = boundaries[l][side];
     Vec lo, hi;
     for (int a = 0; a < dim; ++a) {
-      lo[a] = grid_.origin[a] + k[a] * grid_.cell_size[a];
+      lo[a] = grid_.origin[a] + (grid_.first[a] + k[a]) * grid_.cell_size[a];
       hi[a] = lo[a] + grid_.cell_size[a];
     }
     const Vec mid = 0.5 * (lo + hi);

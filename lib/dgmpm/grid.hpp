@@ -21,6 +21,17 @@ struct Grid {
   Vec cell_size = Vec::Ones();
   Index cells{};
   std::array<bool, Dim> periodic{};
+  // A window onto a larger grid (a rank's cells and its ghost layers in a distributed run): cell
+  // k of the window is cell first + k of the full grid (origin: the full grid's; cells and
+  // periodic axes: `full`), wrapped along the full grid's periodic axes. Positions are located
+  // in the full grid with its arithmetic, so a particle's local coordinates are the same to the
+  // bit in a window as in the full grid. full.cells zero on an axis: the grid is not a window.
+  struct Full {
+    Index cells{};
+    std::array<bool, Dim> periodic{};
+  };
+  Index first{};
+  Full full{};
 
   int num_cells() const {
     int n = 1;
@@ -62,7 +73,7 @@ struct Grid {
   Vec cell_origin(int c) const {
     const Index k = unflatten(c);
     Vec x;
-    for (int l = 0; l < Dim; ++l) x[l] = origin[l] + k[l] * cell_size[l];
+    for (int l = 0; l < Dim; ++l) x[l] = origin[l] + (first[l] + k[l]) * cell_size[l];
     return x;
   }
 
@@ -73,22 +84,32 @@ struct Grid {
   // Cell holding x and the local coordinates xi in [0, 1]^Dim; -1 when x is outside a
   // non-periodic grid. A point on a face belongs to the cell on its plus side, except on the
   // grid's upper boundary, which belongs to the last cell (xi = 1). Periodic axes wrap x.
+  // In a window: the full grid's cell and coordinates, then -1 when the window does not hold
+  // that cell.
   int locate(const Vec& x, Vec& xi) const {
     Index k{};
     for (int l = 0; l < Dim; ++l) {
+      const bool window = full.cells[l] > 0;
+      const int n = window ? full.cells[l] : cells[l];
+      const bool wrap = window ? full.periodic[l] : periodic[l];
       double s = (x[l] - origin[l]) / cell_size[l];
       const double face = std::round(s);
       if (std::abs(s - face) <= face_snap * std::max(1.0, std::abs(face))) s = face;
-      if (periodic[l]) {
-        s -= std::floor(s / cells[l]) * cells[l];
-        if (s >= cells[l]) s = 0.0;  // round-off of the wrap
-      } else if (!(s >= 0.0 && s <= cells[l])) {
+      if (wrap) {
+        s -= std::floor(s / n) * n;
+        if (s >= n) s = 0.0;  // round-off of the wrap
+      } else if (!(s >= 0.0 && s <= n)) {
         return -1;  // also catches NaN
       }
       int kl = static_cast<int>(std::floor(s));
-      if (kl == cells[l]) kl = cells[l] - 1;
-      k[l] = kl;
+      if (kl == n) kl = n - 1;
       xi[l] = s - kl;
+      if (window) {
+        kl -= first[l];
+        if (wrap) kl = (kl % n + n) % n;
+        if (kl < 0 || kl >= cells[l]) return -1;
+      }
+      k[l] = kl;
     }
     return flatten(k);
   }
