@@ -1,10 +1,10 @@
 #pragma once
 // Block decomposition of a grid over ranks laid out as a Cartesian array (docs/distributed.md):
 // each rank owns a box of cells, contiguous along every axis and balanced to within one layer,
-// and reads one ghost layer of cells around it (DCU couples face neighbours, CTU corner
-// neighbours too). Rank numbers and coordinates follow MPI's Cartesian topologies (the first axis
-// varies slowest), so MPI_Cart_create's ranks and this decomposition agree; nothing here calls
-// MPI.
+// and reads ghost layers of cells around it, one per stage (DCU couples face neighbours, CTU
+// corner neighbours too): its window of the grid. Rank numbers and coordinates follow MPI's
+// Cartesian topologies (the first axis varies slowest), so MPI_Cart_create's ranks and this
+// decomposition agree; nothing here calls MPI.
 
 #include "grid.hpp"
 
@@ -98,21 +98,6 @@ struct BlockDecomposition {
     for (int l = 0; l < Dim; ++l) n *= hi[l] - lo[l];
     return n;
   }
-  // Whether cell k is in `rank`'s ghost layer: not its own, and at most one cell away from its
-  // box along every axis (across a periodic side too). The step reads these from other ranks.
-  bool in_ghost_layer(int rank, const Index& k) const {
-    const Index lo = lower(rank), hi = upper(rank);
-    bool outside = false;
-    for (int l = 0; l < Dim; ++l) {
-      if (k[l] >= lo[l] && k[l] < hi[l]) continue;
-      const bool below = k[l] == lo[l] - 1 || (periodic[l] && lo[l] == 0 && k[l] == cells[l] - 1);
-      const bool above = k[l] == hi[l] || (periodic[l] && hi[l] == cells[l] && k[l] == 0);
-      if (!below && !above) return false;
-      outside = true;
-    }
-    return outside;
-  }
-
   // The window (grid.hpp) onto `grid` holding `rank`'s block and `depth` layers of cells around
   // it, clipped at non-periodic sides; periodic along an axis only if one rank spans it. Throws
   // std::invalid_argument when, along a periodic axis shared by several ranks, the block and its

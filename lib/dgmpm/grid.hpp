@@ -69,14 +69,6 @@ struct Grid {
     return flatten(k);
   }
 
-  // Lower corner of cell c.
-  Vec cell_origin(int c) const {
-    const Index k = unflatten(c);
-    Vec x;
-    for (int l = 0; l < Dim; ++l) x[l] = origin[l] + (first[l] + k[l]) * cell_size[l];
-    return x;
-  }
-
   // Relative distance to a face (in cells) under which a point counts as on the face: particles
   // that reach a face together must land in the same cell, whatever their round-off.
   static constexpr double face_snap = 1e-12;
