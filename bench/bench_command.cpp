@@ -32,11 +32,14 @@ void add_bench_command(CLI::App& app) {
                   "Time spent per case (and per auto time step cost measurement)")
       ->check(CLI::PositiveNumber);
   CLI::Option* what =
-      cmd->add_option("--what", args->what,
-                      "Benchmarks to run: solver, courant (default both), plate (2D; give "
-                      "--particles 10000,100000,1000000), courant-2d (2D query costs, 3 runs each)")
+      cmd->add_option(
+             "--what", args->what,
+             "Benchmarks to run: solver, courant (default both), plate (2D; give "
+             "--particles 10000,100000,1000000), courant-2d (2D query costs, 3 runs each), "
+             "scaling (2D plate over the ranks of `mpirun -np N`; JSON lines; "
+             "scripts/scaling.sh runs it)")
           ->delimiter(',')
-          ->check(CLI::IsMember({"solver", "courant", "plate", "courant-2d"}));
+          ->check(CLI::IsMember({"solver", "courant", "plate", "courant-2d", "scaling"}));
   add_threads_option(*cmd, args->threads);
   CLI::Option* json =
       cmd->add_flag(
@@ -62,6 +65,7 @@ void add_bench_command(CLI::App& app) {
       if (w == "courant") run_courant_benchmark(std::cout);
       if (w == "plate") run_plate_benchmark(std::cout, args->particles, args->seconds);
       if (w == "courant-2d") run_courant_2d_benchmark(std::cout, 3);
+      if (w == "scaling") run_scaling_benchmark(std::cout, args->particles, args->seconds);
     }
   });
 }

@@ -1,5 +1,6 @@
 #include "bench/solver_bench.hpp"
 
+#include "solver/communicator.hpp"
 #include "solver/problem.hpp"
 #include "solver/simulation.hpp"
 #include "solver/time_step_control.hpp"
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <dgmpm/discretisation.hpp>
 #include <iomanip>
+#include <limits>
 #include <malloc.h>
 #include <nlohmann/json.hpp>
 #include <omp.h>
@@ -185,6 +187,57 @@ double heap_bytes() {
 }
 
 }  // namespace
+
+void run_scaling_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
+                           double seconds) {
+  Communicator* ranks = launched_ranks();
+  const int size = ranks ? ranks->size() : 1;
+  // Every rank takes the slowest rank's figures (the step ends when the last rank's does).
+  const auto largest = [&](double v) { return ranks ? -ranks->min(-v) : v; };
+  const auto total = [&](double v) {
+    if (ranks) ranks->sum({&v, 1});
+    return v;
+  };
+  using clock = std::chrono::steady_clock;
+  for (int n : particle_counts) {
+    PlaneStrainSimulation sim(plate_scene(n, 1, "dcu", "euler"), size > 1 ? ranks : nullptr);
+    const double dt = sim.stable_time_step();
+    sim.step(dt);  // buffers allocated
+    const auto* halo = sim.halo();
+    const auto traffic_before = halo ? halo->traffic() : decltype(halo->traffic()){};
+    long steps = 0;
+    double best = std::numeric_limits<double>::infinity(), spent = 0;
+    for (int batch = 1; spent < seconds;) {
+      if (ranks) ranks->barrier();
+      const auto t0 = clock::now();
+      for (int k = 0; k < batch; ++k) sim.step(dt);
+      const double s = largest(std::chrono::duration<double>(clock::now() - t0).count());
+      steps += batch;
+      spent += s;
+      best = std::min(best, s / batch);
+      if (s < 0.05) batch *= 2;
+    }
+    const double owned = sim.owned_particles(), particles = total(owned);
+    nlohmann::json j = {{"ranks", size},
+                        {"threads", omp_get_max_threads()},
+                        {"particles", particles},
+                        {"cells", sim.num_cells()},
+                        {"steps", steps},
+                        {"seconds_per_step", best},
+                        {"particle_steps_per_second", particles / best},
+                        {"imbalance", largest(owned) * size / particles}};
+    if (halo) {
+      const auto& t = halo->traffic();
+      const double exchanges = static_cast<double>(t.exchanges - traffic_before.exchanges);
+      j["halo_seconds_per_step"] = largest((t.seconds - traffic_before.seconds) / exchanges);
+      j["halo_bytes_sent_per_step"] =
+          largest((t.bytes_sent - traffic_before.bytes_sent) / exchanges);
+      j["messages_per_step"] = largest(halo->subdomain().partners().size());
+      j["ghost_particles"] = largest(sim.particles().size() - sim.owned_particles());
+    }
+    if (!ranks || ranks->rank() == 0) out << j.dump() << std::endl;
+  }
+}
 
 void run_plate_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
                          double seconds) {

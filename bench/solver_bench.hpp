@@ -14,6 +14,13 @@ void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_co
 void run_plate_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
                          double seconds);
 
+// Distributed scaling (under mpirun; one rank otherwise): the 2D plate (DCU Euler, 1 particle per
+// cell) of each total particle count over the launched ranks; one JSON line per count with the
+// slowest rank's time per step (best batch), particle-steps per second, the imbalance, and the
+// halo's time, bytes and messages per step and its ghost particles (largest over the ranks).
+void run_scaling_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
+                           double seconds);
+
 // The speed goals as JSON, on one core unless said: each case's particle-steps per second (min and
 // median of `repeats` runs of `seconds`), heap bytes per particle, the bytes a particle-step must
 // move by count, the triad bandwidth measured in the same run and the fraction of the bound it

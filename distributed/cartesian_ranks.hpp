@@ -8,7 +8,25 @@
 
 #include <mpi.h>
 
+#include <vector>
+
 namespace dgmpm::distributed {
+
+// The Cartesian topology over `world`'s ranks for axes periodic as given (no reordering: rank r
+// of `world` is rank r of the result); `dims` receives the ranks along each axis.
+inline MPI_Comm cartesian_communicator(MPI_Comm world, const std::vector<bool>& periodic,
+                                       std::vector<int>& dims) {
+  int size = 1;
+  MPI_Comm_size(world, &size);
+  const int n = static_cast<int>(periodic.size());
+  dims.assign(n, 0);
+  std::vector<int> periods(n);
+  for (int l = 0; l < n; ++l) periods[l] = periodic[l] ? 1 : 0;
+  MPI_Dims_create(size, n, dims.data());
+  MPI_Comm comm = MPI_COMM_NULL;
+  MPI_Cart_create(world, n, dims.data(), periods.data(), 0, &comm);
+  return comm;
+}
 
 template <int Dim>
 class CartesianRanks {
@@ -16,19 +34,18 @@ class CartesianRanks {
   // Collective over `world`. Throws std::invalid_argument (on every rank) when MPI's layout puts
   // more ranks along an axis than the grid has cells.
   CartesianRanks(MPI_Comm world, const Grid<Dim>& grid) {
-    int size = 1;
-    MPI_Comm_size(world, &size);
-    int dims[Dim] = {}, periods[Dim] = {};
-    MPI_Dims_create(size, Dim, dims);
+    std::vector<int> dims;
+    comm_ = cartesian_communicator(
+        world, std::vector<bool>(grid.periodic.begin(), grid.periodic.end()), dims);
     typename BlockDecomposition<Dim>::Index layout{};
-    for (int l = 0; l < Dim; ++l) {
-      layout[l] = dims[l];
-      periods[l] = grid.periodic[l] ? 1 : 0;
-    }
-    blocks_ = BlockDecomposition<Dim>(grid, layout);  // before any communicator exists
-    // No reordering: rank r of `world` is rank r here, the block decomposition's numbering.
-    MPI_Cart_create(world, Dim, dims, periods, 0, &comm_);
+    for (int l = 0; l < Dim; ++l) layout[l] = dims[l];
     MPI_Comm_rank(comm_, &rank_);
+    try {
+      blocks_ = BlockDecomposition<Dim>(grid, layout);
+    } catch (...) {
+      MPI_Comm_free(&comm_);
+      throw;
+    }
   }
   ~CartesianRanks() {
     if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);

@@ -1,14 +1,17 @@
 #include "solver/run_command.hpp"
 
 #include "solver/checkpoint.hpp"
+#include "solver/communicator.hpp"
 #include "solver/installation.hpp"
 #include "solver/simulation.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <omp.h>
+#include <thread>
 
 namespace dgmpm {
 
@@ -87,6 +90,27 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
 }
 
 int run(const RunArguments& args) {
+  Communicator* const run_ranks = launched_ranks();
+  const bool distributed = run_ranks && run_ranks->size() > 1;
+  const bool root = !distributed || run_ranks->rank() == 0;
+  // On several ranks an error on one leaves the others waiting: it ends them all.
+  const auto fail = [&](const char* what, int code, bool every_rank) {
+    if (!distributed) {
+      std::cerr << "error: " << what << std::endl;
+      return code;
+    }
+    // Rank 0 says a scene's error; the others leave it time to, then speak only if still alive
+    // (the error was theirs alone).
+    if (every_rank && !root) std::this_thread::sleep_for(std::chrono::seconds(2));
+    {
+      const std::string line = "error (rank " + std::to_string(run_ranks->rank()) + " of " +
+                               std::to_string(run_ranks->size()) + "): " + what + "\n";
+      std::fputs(line.c_str(), stderr);  // one write: lines of ranks do not interleave
+      std::fflush(stderr);
+    }
+    run_ranks->abort(code);  // does not return
+    return code;
+  };
   try {
     apply_threads(args.threads);
     RunOptions options;
@@ -101,14 +125,16 @@ int run(const RunArguments& args) {
       if (args.out.empty()) options.output_directory = "out/two_bar_impact";
     }
     const scene::Scene scene = scene::load_scene(scene_path);
-    const auto owned = make_simulation(scene);
+    const auto owned = make_simulation(scene, distributed ? run_ranks : nullptr);
     SimulationBase& sim = *owned;
     if (!args.restart.empty()) sim.restore(args.restart);
     if (!args.out.empty()) options.output_directory = args.out;
     options.progress = true;
     options.overwrite = args.overwrite;
-    for (const auto& w : sim.warnings()) std::cerr << "warning: " << w << std::endl;
+    if (root)
+      for (const auto& w : sim.warnings()) std::cerr << "warning: " << w << std::endl;
     const RunSummary summary = sim.run(options);
+    if (!root) return 0;
     if (args.json) {
       std::cout << summary.to_json().dump(2) << std::endl;  // as summary.json
     } else {
@@ -116,11 +142,9 @@ int run(const RunArguments& args) {
     }
     return 0;
   } catch (const scene::SceneError& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return 2;
+    return fail(e.what(), 2, true);
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return 1;
+    return fail(e.what(), 1, false);
   }
 }
 

@@ -42,7 +42,7 @@ void sort_by_cell(const Grid<Dim>& grid, Particles<Dim, NComp>& particles) {
   std::vector<int> order(particles.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cell[a] < cell[b]; });
-  particles.permute(order);
+  particles = particles.select(order);
 }
 
 std::string format_step(long step, double t) {
@@ -113,16 +113,19 @@ ErrorNorms relative_errors(const Eigen::MatrixXd& computed, const Eigen::MatrixX
           err.max / scale(ref.max, alt.max)};
 }
 
-std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene) {
+std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene, Communicator* ranks) {
   return with_physics(scene, [&](auto physics) -> std::unique_ptr<SimulationBase> {
-    return std::make_unique<Simulation<typename decltype(physics)::type>>(scene);
+    return std::make_unique<Simulation<typename decltype(physics)::type>>(scene, ranks);
   });
 }
 
 template <class Physics>
-Simulation<Physics>::Simulation(const scene::Scene& scene)
+Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
     : scene_(scene), problem_(make_problem<Physics>(scene)) {
   sort_by_cell(problem_.grid, problem_.particles);
+  total_particles_ = problem_.particles.size();
+  total_cells_ = problem_.grid.num_cells();
+  max_speed_ = problem_.max_wave_speed();
   if (scene_.particles_move && problem_.exact) reference_position_ = problem_.particles.position;
   const double h = problem_.grid.cell_size.minCoeff();
   if (scene_.method == scene::Method::dgmpm) {
@@ -151,7 +154,39 @@ Simulation<Physics>::Simulation(const scene::Scene& scene)
     mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
                                           mpm_variant(scene_.method), scene_.update);
   }
+  if (ranks && ranks->size() > 1) distribute(*ranks);
   initial_energy_ = energy();
+}
+
+// Set up on the whole scene (so the time step and the warnings are the serial run's), then
+// keeps this rank's window: its particles, its grid and boundaries, a stepper on them.
+template <class Physics>
+void Simulation<Physics>::distribute(Communicator& ranks) {
+  const std::string count = std::to_string(ranks.size()) + " MPI ranks";
+  if (mpm_)
+    throw scene::SceneError(scene_.source + ": method: value \"" + scene::to_string(scene_.method) +
+                            "\" runs on one rank; allowed on " + count + ": \"dgmpm\"");
+  const auto& grid = problem_.grid;
+  const std::vector<int> dims =
+      ranks.cartesian_layout(std::vector<bool>(grid.periodic.begin(), grid.periodic.end()));
+  typename BlockDecomposition<dim>::Index layout{};
+  std::copy(dims.begin(), dims.end(), layout.begin());
+  // One ghost layer per stage.
+  const int depth = scene_.time.integrator == TimeScheme::rk2 ? 2 : 1;
+  try {
+    halo_ = std::make_unique<Halo<dim, ncomp>>(
+        ranks, Subdomain<dim>(grid, BlockDecomposition<dim>(grid, layout), ranks.rank(), depth));
+  } catch (const std::invalid_argument& e) {
+    throw scene::SceneError(scene_.source + ": grid: cannot be split over " + count + ": " +
+                            e.what());
+  }
+  problem_.particles = halo_->distribute(problem_.particles, reference_position_);
+  problem_.boundaries = halo_->subdomain().boundaries(problem_.boundaries);
+  problem_.grid = halo_->subdomain().window();
+  stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
+                                                stepper_options(scene_));
+  stepper_->rebuild(problem_.particles, problem_.materials);
+  if (loaded_) power_ = load_power();
 }
 
 template <class Physics>
@@ -202,7 +237,8 @@ void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
   const int c = disc.first_overfull_cell();
   if (c < 0) return;
   std::ostringstream s;
-  s << format_step(step, t) << ": cell " << c << " holds " << std::setprecision(6) << disc.fill(c)
+  s << format_step(step, t) << ": cell " << full_cell(c) << " holds " << std::setprecision(6)
+    << disc.fill(c)
     << " times a full cell's mass; the operators do not preserve constant states in an "
        "over-full cell, so new extrema can appear whatever the time step (\"fill_correction\": "
        "true restores them)";
@@ -213,7 +249,12 @@ void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
 // Power of the boundary loads on the current particle state.
 template <class Physics>
 double Simulation<Physics>::load_power() const {
-  return stepper_->op().boundary_power(problem_.particles.state, problem_.particles.mass, time_);
+  const auto& p = problem_.particles;
+  if (!halo_) return stepper_->op().boundary_power(p.state, p.mass, time_);
+  double power = stepper_->op().boundary_power(p.state, p.mass, time_,
+                                               [&](int c) { return halo_->owns_cell(c); });
+  halo_->comm().sum({&power, 1});
+  return power;
 }
 
 template <class Physics>
@@ -227,16 +268,21 @@ void Simulation<Physics>::step(double dt) {
       finite = stepper_->step(particles.state, particles.mass, time_, dt);
       if (scene_.particles_move) {
         particles.position += dt * particles.state.template bottomRows<dim>();
+        if (halo_) halo_->migrate(particles, reference_position_);
         stepper_->rebuild(particles, problem_.materials);
         if (!overfull_warned_ && !scene_.fill_correction)
           warn_if_overfull_cell(steps_ + 1, time_ + dt);
-        if (time_control_->automatic())
+        if (time_control_->automatic()) {
           dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), particles);
+          if (halo_) dt_ = halo_->comm().min(dt_);  // every cell is some rank's: exact
+        }
+      } else if (halo_) {
+        halo_->exchange_states(particles);
       }
     }
   } catch (const ParticleOutsideGrid& e) {
     throw std::runtime_error(format_step(steps_ + 1, time_ + dt) + ": " + e.what() + " " +
-                             grid_extent(problem_.grid));
+                             grid_extent(full_grid()));
   }
   time_ += dt;
   ++steps_;
@@ -266,10 +312,10 @@ void Simulation<Physics>::check_growth() {
   const auto& p = problem_.particles;
   int worst = 0;
   double most = -1;
-  for (int i = 0; i < p.size(); ++i)
+  for (int i = 0; i < owned_particles(); ++i)
     if (const double ei = particle_energy(i).total(); ei > most) most = ei, worst = i;
   Eigen::Matrix<double, dim, 1> xi;
-  const int cell = problem_.grid.locate(p.position.col(worst), xi);
+  const int cell = full_grid().locate(p.position.col(worst), xi);
   std::ostringstream s;
   s << format_step(steps_, time_) << ": the run is unstable: energy " << std::setprecision(6) << e
     << ' ' << energy_unit(dim) << " is " << e / reference
@@ -284,11 +330,12 @@ void Simulation<Physics>::check_growth() {
 template <class Physics>
 void Simulation<Physics>::check_finite() const {
   const auto& particles = problem_.particles;
-  if (particles.state.allFinite()) return;
-  for (int p = 0; p < particles.size(); ++p) {
+  const int n = owned_particles();
+  if (particles.state.leftCols(n).allFinite()) return;
+  for (int p = 0; p < n; ++p) {
     if (particles.state.col(p).allFinite() && particles.position.col(p).allFinite()) continue;
     Eigen::Matrix<double, dim, 1> xi;
-    const int cell = problem_.grid.locate(particles.position.col(p), xi);
+    const int cell = full_grid().locate(particles.position.col(p), xi);
     std::ostringstream s;
     s << format_step(steps_, time_) << ": non-finite state on particle " << particles.id[p]
       << " (x = " << particles.position.col(p).transpose() << ", cell " << cell
@@ -321,20 +368,24 @@ void Simulation<Physics>::advance_to(double t_end) {
 template <class Physics>
 typename Simulation<Physics>::Field Simulation<Physics>::physical_state() const {
   const auto& p = problem_.particles;
-  Field s(ncomp, p.size());
-  for (int i = 0; i < p.size(); ++i)
+  Field s(ncomp, owned_particles());
+  for (int i = 0; i < s.cols(); ++i)
     s.col(i) = Physics::physical(p.state.col(i), problem_.materials[p.material[i]]);
   return s;
 }
 
 template <class Physics>
 typename Simulation<Physics>::Energy Simulation<Physics>::energy_parts() const {
-  const auto& p = problem_.particles;
   Energy e;
-  for (int i = 0; i < p.size(); ++i) {
+  for (int i = 0; i < owned_particles(); ++i) {
     const Energy ei = particle_energy(i);
     e.kinetic += ei.kinetic;
     e.elastic += ei.elastic;
+  }
+  if (halo_) {
+    std::array<double, 2> sums{e.kinetic, e.elastic};
+    halo_->comm().sum(sums);
+    e = {sums[0], sums[1]};
   }
   return e;
 }
@@ -350,45 +401,49 @@ typename Simulation<Physics>::Energy Simulation<Physics>::particle_energy(int i)
 template <class Physics>
 typename Simulation<Physics>::Field Simulation<Physics>::exact_state(double t) const {
   const auto& p = problem_.particles;
-  Field s(ncomp, p.size());
+  Field s(ncomp, owned_particles());
   const auto& x0 = reference_position_.cols() > 0 ? reference_position_ : p.position;
-  for (int i = 0; i < p.size(); ++i) s.col(i) = problem_.exact(x0.col(i), t);
+  for (int i = 0; i < s.cols(); ++i) s.col(i) = problem_.exact(x0.col(i), t);
   return s;
 }
 
+// One row per particle, in the serial run's order (a distributed run gathers its ranks' owned
+// particles on rank 0, which writes): the same file whatever the number of ranks.
 template <class Physics>
 void Simulation<Physics>::write_particles(const std::string& path) const {
   const Field s = physical_state();
   std::optional<Field> ex;
   if (problem_.exact) ex = exact_state(time_);
   const auto& p = problem_.particles;
-  if constexpr (dim == 1) {
-    output::write_atomically(path, [&](std::ostream& out) {
-      out << "id,x,mass,stress,velocity" << (ex ? ",exact_stress,exact_velocity" : "") << ",time\n";
-      for (int i = 0; i < p.size(); ++i) {
-        out << p.id[i] << ',' << p.position(0, i) << ',' << p.mass[i] << ',' << s(0, i) << ','
-            << s(1, i);
-        if (ex) out << ',' << (*ex)(0, i) << ',' << (*ex)(1, i);
-        out << ',' << time_ << '\n';
-      }
-    });
-  } else {
-    const char* fields = "sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y";
-    output::write_atomically(path, [&](std::ostream& out) {
-      out << "id,x,y,mass,volume," << fields;
+  // Columns: id, position, mass, volume, physical state, exact state.
+  constexpr int kMass = 1 + dim, kVolume = 2 + dim, kState = 3 + dim;
+  Eigen::MatrixXd table(kState + ncomp * (ex ? 2 : 1), s.cols());
+  for (Eigen::Index i = 0; i < s.cols(); ++i) {
+    table(0, i) = p.id[i];
+    table.col(i).segment<dim>(1) = p.position.col(i);
+    table(kMass, i) = p.mass[i];
+    table(kVolume, i) = p.volume[i];
+    table.col(i).segment<ncomp>(kState) = s.col(i);
+    if (ex) table.col(i).segment<ncomp>(kState + ncomp) = ex->col(i);
+  }
+  if (halo_) table = halo_->gather(table);
+  if (!root()) return;
+  output::write_atomically(path, [&](std::ostream& out) {
+    if constexpr (dim == 1) {
+      out << "id,x,mass,stress,velocity" << (ex ? ",exact_stress,exact_velocity" : "");
+    } else {
+      out << "id,x,y,mass,volume,sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y";
       if (ex)
         out << ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,exact_velocity_y";
-      out << ",time\n";
-      for (int i = 0; i < p.size(); ++i) {
-        out << p.id[i] << ',' << p.position(0, i) << ',' << p.position(1, i) << ',' << p.mass[i]
-            << ',' << p.volume[i];
-        for (int k = 0; k < ncomp; ++k) out << ',' << s(k, i);
-        if (ex)
-          for (int k = 0; k < ncomp; ++k) out << ',' << (*ex)(k, i);
-        out << ',' << time_ << '\n';
-      }
-    });
-  }
+    }
+    out << ",time\n";
+    for (Eigen::Index i = 0; i < table.cols(); ++i) {
+      out << static_cast<long>(table(0, i));
+      for (int r = 1; r < table.rows(); ++r)
+        if (dim > 1 || r != kVolume) out << ',' << table(r, i);  // 1D rows have no volume
+      out << ',' << time_ << '\n';
+    }
+  });
 }
 
 namespace {
@@ -398,7 +453,38 @@ std::string particle_file(std::size_t k, const char* ext) {
   std::snprintf(name, sizeof name, "particles_%03zu.%s", k, ext);
   return name;
 }
+// particles_NNN_rR.vtu: rank R's piece of the k-th output of a distributed run.
+std::string piece_file(std::size_t k, int rank) {
+  char name[64];
+  std::snprintf(name, sizeof name, "particles_%03zu_r%d.vtu", k, rank);
+  return name;
+}
 }  // namespace
+
+// The particles' .vtu `name` (serial), or (distributed) this rank's piece of output k, and on
+// rank 0 the .pvtu `name` that opens the pieces as one data set.
+template <class Physics>
+void Simulation<Physics>::write_vtu(std::size_t k, const std::string& directory,
+                                    const std::string& name) const {
+  const auto& p = problem_.particles;
+  const Field s = physical_state();
+  const auto ex = problem_.exact ? std::optional(exact_state(time_)) : std::nullopt;
+  if (!halo_) {
+    vtk::write_particles<Physics>(directory + "/" + name, p, problem_.materials, s, ex);
+    return;
+  }
+  std::vector<int> owned(owned_particles());
+  std::iota(owned.begin(), owned.end(), 0);
+  const ParticleSet piece = p.select(owned);
+  const auto data = vtk::point_data<Physics>(piece, problem_.materials, s, ex);
+  Communicator& comm = halo_->comm();
+  vtk::write_points(directory + "/" + piece_file(k, comm.rank()), piece.position, data);
+  comm.barrier();  // every piece complete before the index names it
+  if (!root()) return;
+  std::vector<std::string> pieces;
+  for (int r = 0; r < comm.size(); ++r) pieces.push_back(piece_file(k, r));
+  vtk::write_piece_index(directory + "/" + name, pieces, data);
+}
 
 template <class Physics>
 RunSummary Simulation<Physics>::run(const RunOptions& options) {
@@ -415,16 +501,24 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   if (checkpoints && !writes)
     throw scene::SceneError(scene_.source +
                             ": checkpoints need an output directory (output.directory or --out)");
+  if (checkpoints && halo_)
+    throw scene::SceneError(
+        scene_.source + ": checkpoints are not written by distributed runs yet; allowed on " +
+        std::to_string(halo_->comm().size()) + " MPI ranks: a run without --checkpoint-every");
   const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
   const auto& output_times = scene_.output.times;
   std::optional<output::DirectoryClaim> claim;
   const bool land = scene_.output.land;
   std::vector<std::string> planned;
-  if (writes) {
-    output::create_directories(directory);
+  // A distributed run's VTU outputs: a .pvtu and one piece per rank.
+  const auto vtu_file = [&](std::size_t k) { return particle_file(k, halo_ ? "pvtu" : "vtu"); };
+  if (writes) output::create_directories(directory);
+  if (writes && root()) {
     for (std::size_t k = 0; k < output_times.size(); ++k) {
       if (csv) planned.push_back(particle_file(k, "csv"));
-      if (vtu) planned.push_back(particle_file(k, "vtu"));
+      if (vtu) planned.push_back(vtu_file(k));
+      for (int r = 0; vtu && halo_ && r < halo_->comm().size(); ++r)
+        planned.push_back(piece_file(k, r));
     }
     if (vtu && !output_times.empty()) planned.push_back("particles.pvd");
     if (!output_times.empty()) planned.push_back("outputs.csv");
@@ -434,6 +528,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     listed.insert(listed.end(), done.checkpoints.begin(), done.checkpoints.end());
     claim.emplace(directory, scene_.source, listed, options.overwrite, resumed);
   }
+  if (writes && halo_) halo_->comm().barrier();  // the claim cleared the directory
   if (resumed) {
     std::error_code ec;
     const auto here = std::filesystem::weakly_canonical(directory, ec);
@@ -451,10 +546,12 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   output::CommittedFile committed;
   const std::string history_path = directory + "/energy.csv";
   const char* history_header = "step,time,dt,kinetic,elastic,total,boundary_work\n";
-  const auto write_history = [&](std::ostream& out, double dt) {
+  // Energies are sums over the ranks: every rank computes them, rank 0 writes.
+  const auto write_history = [&](std::ostream* out, double dt) {
     const Energy e = energy_parts();
-    out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ','
-        << e.total() << ',' << work_ << '\n';
+    if (!out) return;
+    *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ','
+         << e.total() << ',' << work_ << '\n';
   };
   std::ostream* history = nullptr;
   const bool commits = checkpoints || resumed;
@@ -465,14 +562,16 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
                             "recorded: it restarts at step " + std::to_string(steps_));
       committed.create(history_path);
       committed.stream() << history_header;
-      if (!resumed || steps_ == 0) write_history(committed.stream(), 0.0);
+      if (!resumed || steps_ == 0) write_history(&committed.stream(), 0.0);
     }
     history = &committed.stream();
   } else if (writes) {
-    streamed = output::StreamedFile(history_path);
-    streamed.stream() << history_header;
-    write_history(streamed.stream(), 0.0);
-    history = &streamed.stream();
+    if (root()) {
+      streamed = output::StreamedFile(history_path);
+      streamed.stream() << history_header;
+      history = &streamed.stream();
+    }
+    write_history(history, 0.0);
   }
 
   // The step count up front: a run that would need more than time.max_steps is refused.
@@ -485,7 +584,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
       << "time.max_steps";
     throw scene::SceneError(s.str());
   }
-  const bool progress = options.progress && ::isatty(STDERR_FILENO);
+  const bool progress = options.progress && root() && ::isatty(STDERR_FILENO);
   if (progress)
     std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(),
                  expected_steps - steps_, dt_);
@@ -504,10 +603,8 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     }
     row << ',';
     if (vtu) {
-      const std::string name = particle_file(k, "vtu");
-      vtk::write_particles<Physics>(
-          directory + "/" + name, problem_.particles, problem_.materials, physical_state(),
-          problem_.exact ? std::optional(exact_state(time_)) : std::nullopt);
+      const std::string name = vtu_file(k);
+      write_vtu(k, directory, name);
       done.files.push_back(name);
       done.series.emplace_back(time_, name);
       row << name;
@@ -574,7 +671,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     // The range of the controlled step; steps shortened to land on a time are not counted.
     done.dt_min = std::min(done.dt_min, controlled);
     done.dt_max = std::max(done.dt_max, controlled);
-    if (history) write_history(*history, dt);
+    if (writes) write_history(history, dt);
     if (progress) {
       const auto now = clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
@@ -589,14 +686,14 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   if (progress) std::fprintf(stderr, "\r%78s\r", "");
   if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
   for (const auto& name : done.files) summary.files.push_back(directory + "/" + name);
-  if (writes && !done.index_rows.empty()) {
+  if (writes && root() && !done.index_rows.empty()) {
     output::write_atomically(directory + "/outputs.csv", [&](std::ostream& out) {
       out << "index,time,csv,vtu\n";
       for (const auto& r : done.index_rows) out << r << '\n';
     });
     summary.files.push_back(directory + "/outputs.csv");
   }
-  if (vtu && writes && !done.series.empty()) {
+  if (vtu && writes && root() && !done.series.empty()) {
     vtk::write_series(directory + "/particles.pvd", done.series);
     summary.files.push_back(directory + "/particles.pvd");
   }
@@ -606,15 +703,25 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
                  {"method", scene::to_string(scene_.method)},
                  {"integrator", scene::to_string(scene_.time.integrator)},
                  {"dimension", dim},
-                 {"particles", problem_.particles.size()},
-                 {"cells", problem_.grid.num_cells()}};
+                 {"particles", total_particles_},
+                 {"cells", total_cells_}};
+  if (halo_) {
+    // The load balance of the block decomposition (void regions leave ranks idle).
+    const std::vector<double> counts = halo_->comm().gather({double(owned_particles())});
+    if (root()) {
+      const double largest = *std::max_element(counts.begin(), counts.end());
+      summary.run["ranks"] = counts.size();
+      summary.run["particles_per_rank"] = std::vector<long>(counts.begin(), counts.end());
+      summary.run["imbalance"] = largest * counts.size() / total_particles_;
+    }
+  }
   if (dim > 1 && scene_.method == scene::Method::dgmpm)
     summary.run["flux"] = to_string(scene_.flux);
   if (resumed) summary.run["restarted_from"] = restored_from_;
   summary.energy_initial = initial_energy_;
   summary.dt_min = done.dt_min;
   summary.dt_max = done.dt_max;
-  const double to_courant = problem_.max_wave_speed() / problem_.grid.cell_size.minCoeff();
+  const double to_courant = max_speed_ / problem_.grid.cell_size.minCoeff();
   summary.courant_min = summary.dt_min * to_courant;
   summary.courant_max = summary.dt_max * to_courant;
   summary.steps = steps_;
@@ -625,16 +732,22 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   if (time_control_) summary.layouts_analysed = time_control_->layouts_analysed();
   summary.energy_final = energy();
   if (problem_.exact) {
-    const Eigen::VectorXd& vol = problem_.particles.volume;
-    // Where one exact field vanishes, the other one, through the impedance, sets the scale.
-    const double z = problem_.exact_impedance;
-    const Field ex = exact_state(time_), s = physical_state();
-    const Eigen::MatrixXd es = ex.topRows(ncomp - dim), ev = ex.bottomRows(dim);
-    summary.stress_errors = relative_errors(s.topRows(ncomp - dim), es, vol, z * ev);
-    summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
+    const int n = owned_particles();
+    Eigen::MatrixXd all(2 * ncomp + 1, n);  // computed, exact, volume: the serial run's sums
+    all << physical_state(), exact_state(time_), problem_.particles.volume.head(n).transpose();
+    if (halo_) all = halo_->gather(all);
+    if (root()) {
+      const Eigen::MatrixXd s = all.topRows(ncomp), ex = all.middleRows(ncomp, ncomp);
+      const Eigen::VectorXd vol = all.bottomRows(1).transpose();
+      // Where one exact field vanishes, the other one, through the impedance, sets the scale.
+      const double z = problem_.exact_impedance;
+      const Eigen::MatrixXd es = ex.topRows(ncomp - dim), ev = ex.bottomRows(dim);
+      summary.stress_errors = relative_errors(s.topRows(ncomp - dim), es, vol, z * ev);
+      summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
+    }
   }
   summary.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
-  if (writes) {
+  if (writes && root()) {
     if (commits)
       committed.commit();
     else
@@ -720,6 +833,9 @@ void Simulation<Physics>::restore(const std::string& path) {
   const checkpoint::File file = checkpoint::read(path);
   const nlohmann::json& h = file.header;
   checkpoint::check_compatible(path, h, scene_);
+  if (halo_)
+    throw scene::SceneError(path + ": cannot restart a distributed run yet; allowed on " +
+                            std::to_string(halo_->comm().size()) + " MPI ranks: no --restart");
   auto& p = problem_.particles;
   try {
     if (h.at("dimension") != dim || h.at("components") != ncomp || h.at("particles") != p.size())

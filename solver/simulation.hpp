@@ -4,6 +4,8 @@
 // time. Simulation<Physics> is the loop of one physics; make_simulation is the one place where
 // a scene's dimension picks it.
 
+#include "solver/communicator.hpp"
+#include "solver/halo.hpp"
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
 #include "solver/time_step_control.hpp"
@@ -83,16 +85,23 @@ class Simulation final : public SimulationBase {
   using ParticleSet = Particles<dim, ncomp>;
   using Field = Eigen::Matrix<double, ncomp, Eigen::Dynamic>;
 
-  explicit Simulation(const scene::Scene& scene);
+  // With `ranks` of more than one rank: this rank's part of a distributed run (docs/distributed.md;
+  // DGMPM only). Every rank is given the same scene; calls are then collective.
+  explicit Simulation(const scene::Scene& scene, Communicator* ranks = nullptr);
   ~Simulation() override;
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
   const scene::Scene& scene() const override { return scene_; }
   const Problem<Physics>& problem() const { return problem_; }
+  // This rank's particles: all of them in a serial run; in a distributed one, the owned ones
+  // (the first owned_particles()) then the ghosts.
   const ParticleSet& particles() const { return problem_.particles; }
-  int num_particles() const override { return problem_.particles.size(); }
-  int num_cells() const override { return problem_.grid.num_cells(); }
+  int owned_particles() const { return halo_ ? halo_->owned() : problem_.particles.size(); }
+  // The particles' positions in the serial run's arrays (distributed runs only).
+  const Halo<dim, ncomp>* halo() const { return halo_.get(); }
+  int num_particles() const override { return total_particles_; }
+  int num_cells() const override { return total_cells_; }
   double time() const { return time_; }
   long steps() const override { return steps_; }
 
@@ -114,7 +123,7 @@ class Simulation final : public SimulationBase {
   RunSummary run(const RunOptions& options = {}) override;
   void restore(const std::string& checkpoint) override;
 
-  // Physical state (sigma, v) of every particle: 1D (sigma, v); 2D (sigma_xx, sigma_yy,
+  // Physical state (sigma, v) of every (owned) particle: 1D (sigma, v); 2D (sigma_xx, sigma_yy,
   // sigma_xy, v_x, v_y).
   Field physical_state() const;
   Eigen::VectorXd stress() const requires(dim == 1) { return physical_state().row(0).transpose(); }
@@ -131,8 +140,8 @@ class Simulation final : public SimulationBase {
   double energy() const { return energy_parts().total(); }
   // Work done on the body by the boundary loads so far (DGMPM; trapezoidal in time).
   double boundary_work() const { return work_; }
-  // Requires an exact solution. Evaluated at the particles' initial positions: with moving
-  // particles (small strain) fields are compared in the material coordinate.
+  // Requires an exact solution; owned particles. Evaluated at the particles' initial positions:
+  // with moving particles (small strain) fields are compared in the material coordinate.
   Field exact_state(double t) const;
   Eigen::VectorXd exact_stress(double t) const requires(dim == 1) {
     return exact_state(t).row(0).transpose();
@@ -151,6 +160,16 @@ class Simulation final : public SimulationBase {
   void warn_if_overfull_cell(long step, double t);
   double load_power() const;
   void write_particles(const std::string& path) const;
+  void write_vtu(std::size_t k, const std::string& directory, const std::string& name) const;
+  void distribute(Communicator& ranks);
+  bool root() const { return !halo_ || halo_->subdomain().rank() == 0; }
+  const Grid<dim>& full_grid() const {
+    return halo_ ? halo_->subdomain().full_grid() : problem_.grid;
+  }
+  // The full grid's index of local cell c (a window's cells are numbered from its corner).
+  int full_cell(int c) const {
+    return halo_ ? full_grid().flatten(halo_->subdomain().full_cell(c)) : c;
+  }
   void write_checkpoint(const std::string& path) const;
 
   // What run() has done so far: a checkpoint records it, a restart continues from it.
@@ -172,6 +191,9 @@ class Simulation final : public SimulationBase {
   Problem<Physics> problem_;
   std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
   std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
+  std::unique_ptr<Halo<dim, ncomp>> halo_;     // distributed runs
+  int total_particles_ = 0, total_cells_ = 0;
+  double max_speed_ = 0;  // of the materials the particles carry
   // Initial positions, kept for the exact solution of moving particles only (fixed particles are
   // their own reference).
   Eigen::Matrix<double, dim, Eigen::Dynamic> reference_position_;
@@ -195,7 +217,9 @@ constexpr const char* energy_unit(int dim) {
 }
 
 // The run-time dispatch on the scene's dimension (and so its physics).
-std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene);
+// `ranks`: see Simulation's constructor.
+std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene,
+                                                Communicator* ranks = nullptr);
 
 // The stepper options a scene asks for (one definition for every caller).
 StepperOptions stepper_options(const scene::Scene& scene);

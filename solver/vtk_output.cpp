@@ -40,6 +40,25 @@ void write_points(const std::string& path, const Eigen::MatrixXd& positions,
   });
 }
 
+void write_piece_index(const std::string& path, const std::vector<std::string>& pieces,
+                       const std::vector<PointData>& data) {
+  output::write_atomically(path, [&](std::ostream& out) {
+    out << "<?xml version=\"1.0\"?>\n"
+        << "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+           "header_type=\"UInt64\">\n"
+        << "<PUnstructuredGrid GhostLevel=\"0\">\n<PPointData>\n";
+    for (const PointData& d : data)
+      out << "<PDataArray type=\"Float64\" Name=\"" << d.name << "\" NumberOfComponents=\""
+          << d.components << "\"/>\n";
+    out << "</PPointData>\n<PPoints>\n<PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n"
+        << "</PPoints>\n<PCells>\n<PDataArray type=\"Int64\" Name=\"connectivity\"/>\n"
+        << "<PDataArray type=\"Int64\" Name=\"offsets\"/>\n"
+        << "<PDataArray type=\"UInt8\" Name=\"types\"/>\n</PCells>\n";
+    for (const auto& piece : pieces) out << "<Piece Source=\"" << piece << "\"/>\n";
+    out << "</PUnstructuredGrid>\n</VTKFile>\n";
+  });
+}
+
 void write_series(const std::string& path,
                   const std::vector<std::pair<double, std::string>>& files) {
   output::write_atomically(path, [&](std::ostream& out) {

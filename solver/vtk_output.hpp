@@ -30,9 +30,23 @@ void write_points(const std::string& path, const Eigen::MatrixXd& positions,
 // exact solution's: 1D stress, velocity; 2D sigma_xx, sigma_yy, sigma_xy, sigma_zz, von_mises,
 // velocity (3 components); mass, volume, id and material in both.
 template <class Physics, class ParticleSet, class Field>
+std::vector<PointData> point_data(const ParticleSet& particles,
+                                  const std::vector<typename Physics::Material>& materials,
+                                  const Field& physical, const std::optional<Field>& exact);
+
+// The particles and their point_data() in one .vtu.
+template <class Physics, class ParticleSet, class Field>
 void write_particles(const std::string& path, const ParticleSet& particles,
                      const std::vector<typename Physics::Material>& materials,
-                     const Field& physical, const std::optional<Field>& exact);
+                     const Field& physical, const std::optional<Field>& exact) {
+  write_points(path, particles.position,
+               point_data<Physics>(particles, materials, physical, exact));
+}
+
+// A .pvtu: the pieces (.vtu file names relative to it, one per rank of a distributed run, each
+// written by write_points with arrays named as `data`'s) as one data set.
+void write_piece_index(const std::string& path, const std::vector<std::string>& pieces,
+                       const std::vector<PointData>& data);
 
 // A .pvd collection of (time, file name relative to the .pvd).
 void write_series(const std::string& path,
@@ -56,9 +70,9 @@ inline PointData vector3(const std::string& name, const Eigen::MatrixXd& field, 
 }  // namespace detail
 
 template <class Physics, class ParticleSet, class Field>
-void write_particles(const std::string& path, const ParticleSet& particles,
-                     const std::vector<typename Physics::Material>& materials,
-                     const Field& physical, const std::optional<Field>& exact) {
+std::vector<PointData> point_data(const ParticleSet& particles,
+                                  const std::vector<typename Physics::Material>& materials,
+                                  const Field& physical, const std::optional<Field>& exact) {
   std::vector<PointData> data;
   const auto fields = [&](const Eigen::MatrixXd& s, const std::string& prefix) {
     if constexpr (Physics::dim == 1) {
@@ -93,7 +107,7 @@ void write_particles(const std::string& path, const ParticleSet& particles,
     mat.values.push_back(particles.material[i]);
   }
   for (auto* d : {&mass, &volume, &id, &mat}) data.push_back(std::move(*d));
-  write_points(path, particles.position, data);
+  return data;
 }
 
 }  // namespace dgmpm::vtk

@@ -3,13 +3,19 @@
 // MPI_Cart_rank numbers them, neighbours are symmetric and wrap on periodic axes only, and the
 // ghost layer of a rank's window is exactly the cells outside its block that its cells' 3^d
 // stencils reach, and a window (a block and its ghost layers) locates points as the full grid does.
+// A rank's subdomain: its window's cells map back to the grid's, its exchange partners are the
+// owners of its ghost cells (and list it in turn), its boundaries are the grid's on the grid's
+// sides only.
 #define BOOST_TEST_MODULE lib_decomposition
 #include <boost/test/unit_test.hpp>
 
 #include "common/grids.hpp"
 
 #include <dgmpm/decomposition.hpp>
+#include <dgmpm/subdomain.hpp>
 
+#include <algorithm>
+#include <optional>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -133,6 +139,18 @@ void check(const Grid<D>& g, const std::array<int, D>& layout) {
         continue;
       }
       const Grid<D> w = b.window(full, r, depth);
+      // A subdomain needs every rank's window (its partners'): refused with any.
+      bool all_fit = true;
+      for (int q = 0; q < nr; ++q)
+        for (int l = 0; l < D; ++l)
+          all_fit = all_fit && !(g.periodic[l] && layout[l] > 1 &&
+                                 b.upper(q)[l] - b.lower(q)[l] + 2 * depth > g.cells[l]);
+      std::optional<Subdomain<D>> sub;
+      if (all_fit)
+        sub.emplace(full, b, r, depth);
+      else
+        BOOST_CHECK_THROW(Subdomain<D>(full, b, r, depth), std::invalid_argument);
+      std::set<int> owners;  // of the window's cells but r: the partners
       int held = 0;
       for (int c = 0; c < g.num_cells(); ++c) {
         const auto k = g.unflatten(c);
@@ -156,12 +174,34 @@ void check(const Grid<D>& g, const std::array<int, D>& layout) {
         BOOST_TEST((cw >= 0) == near, "rank " << r << " depth " << depth << " cell " << c);
         if (cw < 0) continue;
         ++held;
+        if (sub) BOOST_TEST(full.flatten(sub->full_cell(cw)) == c);
+        if (b.owner(k) != r) owners.insert(b.owner(k));
         BOOST_TEST(((xi_window.array() == xi_full.array()).all()));
         const auto kw = w.unflatten(cw);
         for (int l = 0; l < D; ++l)
           BOOST_TEST(((w.first[l] + kw[l]) % g.cells[l] + g.cells[l]) % g.cells[l] == k[l]);
       }
       BOOST_TEST(held == w.num_cells());  // each window cell is a distinct cell of the grid
+      if (!sub) continue;
+      BOOST_TEST(sub->window().num_cells() == w.num_cells());
+      const std::vector<int> partners(owners.begin(), owners.end());
+      BOOST_TEST(sub->partners() == partners, "rank " << r << " depth " << depth);
+      for (int q : sub->partners()) {  // symmetric: the exchanges pair up
+        const Subdomain<D> other(full, b, q, depth);
+        const auto& back = other.partners();
+        BOOST_TEST((std::find(back.begin(), back.end(), r) != back.end()));
+      }
+      // The grid's conditions on the grid's sides only: free inside, none on periodic axes.
+      Boundaries<D> everywhere;
+      for (auto& axis : everywhere)
+        for (auto& side : axis) side = BoundaryCondition<D>{BoundaryKind::fixed, {}};
+      const Boundaries<D> kept = sub->boundaries(everywhere);
+      for (int l = 0; l < D; ++l) {
+        const bool lower = !g.periodic[l] && lo[l] - depth <= 0;
+        const bool upper = !g.periodic[l] && hi[l] + depth >= g.cells[l];
+        BOOST_TEST(kept[l][0].segments.size() == (lower ? 1u : 0u), "rank " << r << " axis " << l);
+        BOOST_TEST(kept[l][1].segments.size() == (upper ? 1u : 0u), "rank " << r << " axis " << l);
+      }
     }
 }
 

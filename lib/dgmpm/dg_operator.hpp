@@ -31,6 +31,11 @@
 
 namespace dgmpm {
 
+// A cell filter that takes every cell.
+struct EveryCell {
+  bool operator()(int) const { return true; }
+};
+
 // Donor-cell upwind (normal Riemann problems only) or corner transport upwind.
 enum class FluxScheme { dcu, ctu };
 
@@ -200,13 +205,16 @@ class DGOperator {
   // Power delivered to the particles by the prescribed boundary loads at time t: the sum over
   // loaded boundary edges (traction, velocity) of (sigma* n) . v* times the edge length, from
   // the particle states qp projected onto those edges' cells only (no pass over the others).
-  double boundary_power(const ParticleField& qp, const Eigen::VectorXd& mass, double t) const {
+  // Only the cells `counted` accepts (a distributed run counts the cells its rank owns).
+  template <class Counted = EveryCell>
+  double boundary_power(const ParticleField& qp, const Eigen::VectorXd& mass, double t,
+                        Counted counted = {}) const {
     double power = 0.0;
     Eigen::Matrix<double, ncomp, npc> q;
     for (const auto& [l, f] : loaded_faces_) {
       const auto [cm, cp] = face_cells_[l][f];
       const int c = cm >= 0 ? cm : cp;
-      if (!disc_.occupied(c)) continue;
+      if (!disc_.occupied(c) || !counted(c)) continue;
       project_cell(c, qp, mass, q);
       const int side = cm >= 0 ? 1 : 0;  // the cell's side the edge is on
       const auto& mat = disc_.cell_material(c);

@@ -26,11 +26,11 @@ struct Particles {
     id.resize(n);
   }
 
-  // Reorders every array by `order` (new i takes old order[i]).
-  void permute(const std::vector<int>& order) {
+  // The particles order[0], order[1], ... (any subset, in any order).
+  Particles select(const std::vector<int>& order) const {
     Particles p;
-    p.resize(size());
-    for (int i = 0; i < size(); ++i) {
+    p.resize(static_cast<int>(order.size()));
+    for (int i = 0; i < p.size(); ++i) {
       const int o = order[i];
       p.position.col(i) = position.col(o);
       p.mass[i] = mass[o];
@@ -39,7 +39,7 @@ struct Particles {
       p.material[i] = material[o];
       p.id[i] = id[o];
     }
-    *this = std::move(p);
+    return p;
   }
 };
 

@@ -1,0 +1,251 @@
+#pragma once
+// The particles of one rank of a distributed run (docs/distributed.md): those of its block
+// (owned) and copies of those of its ghost layers, stepped together with the serial code; after
+// each step the owners send the new states of the particles their partners hold as ghosts, so
+// that every rank starts each step with the serial run's particles on its window.
+//
+// Local order: the owned particles, then the ghosts, each in the serial run's order (its global
+// index). A cell's particles are all owned or all ghosts, so within every cell the local order is
+// the serial one, and so is every per-cell sum: the owned particles' new states are the serial
+// run's to the bit.
+
+#include "solver/communicator.hpp"
+
+#include <dgmpm/discretisation.hpp>
+#include <dgmpm/subdomain.hpp>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dgmpm {
+
+template <int Dim, int NComp>
+class Halo {
+ public:
+  using ParticleSet = Particles<Dim, NComp>;
+  using Positions = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
+  using Index = std::array<int, Dim>;
+
+  // depth: ghost layers (the integrator's stages).
+  Halo(Communicator& comm, const Subdomain<Dim>& subdomain) : comm_(comm), sub_(subdomain) {
+    owned_cell_.resize(sub_.window().num_cells());
+    for (int c = 0; c < sub_.window().num_cells(); ++c)
+      owned_cell_[c] = sub_.owns(sub_.full_cell(c));
+  }
+
+  const Subdomain<Dim>& subdomain() const { return sub_; }
+  Communicator& comm() const { return comm_; }
+  int owned() const { return owned_; }
+  long global_index(int i) const { return global_[i]; }
+  // What the exchanges cost so far (for the scaling benchmark): seconds spent in them (waits for
+  // slower partners included), how many, and the bytes this rank sent.
+  struct Traffic {
+    double seconds = 0;
+    long exchanges = 0;
+    double bytes_sent = 0;
+  };
+  const Traffic& traffic() const { return traffic_; }
+
+  // Whether cell c of the window belongs to this rank's block.
+  bool owns_cell(int c) const { return owned_cell_[c]; }
+
+  // This rank's particles from all of them (in the serial run's order), with `reference` (initial
+  // positions, or an empty matrix) following them; sets up the exchanges of fixed particles.
+  ParticleSet distribute(const ParticleSet& all, Positions& reference) {
+    std::vector<int> owned, ghosts;
+    Index k{};
+    for (int p = 0; p < all.size(); ++p) {
+      if (!sub_.locate(all.position.col(p), k)) throw_outside_grid(all, p);
+      if (sub_.owns(k))
+        owned.push_back(p);
+      else if (sub_.holds(k))
+        ghosts.push_back(p);
+    }
+    owned_ = static_cast<int>(owned.size());
+    std::vector<int> order = owned;
+    order.insert(order.end(), ghosts.begin(), ghosts.end());
+    global_.assign(order.begin(), order.end());
+    ParticleSet local = all.select(order);
+    if (reference.cols() > 0) reference = select_columns(reference, order);
+    // Fixed particles: what goes to and comes from each partner, in the serial order both sides
+    // enumerate.
+    const auto& partners = sub_.partners();
+    send_.assign(partners.size(), {});
+    receive_.assign(partners.size(), {});
+    for (int i = 0; i < local.size(); ++i) {
+      sub_.locate(local.position.col(i), k);
+      for (std::size_t j = 0; j < partners.size(); ++j) {
+        if (i < owned_ && sub_.partner_holds(static_cast<int>(j), k)) send_[j].push_back(i);
+        if (i >= owned_ && sub_.owner(k) == partners[j]) receive_[j].push_back(i);
+      }
+    }
+    return local;
+  }
+
+  // After a step of fixed particles: the ghosts take their owners' new states.
+  void exchange_states(ParticleSet& p) {
+    const std::size_t n = send_.size();
+    out_.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      out_[j].resize(send_[j].size() * NComp);
+      for (std::size_t e = 0; e < send_[j].size(); ++e)
+        for (int r = 0; r < NComp; ++r) out_[j][e * NComp + r] = p.state(r, send_[j][e]);
+    }
+    exchange();
+    for (std::size_t j = 0; j < n; ++j) {
+      if (in_[j].size() != receive_[j].size() * NComp)
+        throw std::logic_error("halo: rank " + std::to_string(sub_.partners()[j]) + " sent " +
+                               std::to_string(in_[j].size()) + " values, expected " +
+                               std::to_string(receive_[j].size() * NComp));
+      for (std::size_t e = 0; e < receive_[j].size(); ++e)
+        for (int r = 0; r < NComp; ++r) p.state(r, receive_[j][e]) = in_[j][e * NComp + r];
+    }
+  }
+
+  // After a step of moving particles (positions advanced): each owner sends its particles to every
+  // partner whose window holds them (migration included: a particle entering a partner's block is
+  // in its window), and the local set is rebuilt from the owned particles still in the window and
+  // what came in. Throws ParticleOutsideGrid for an owned particle that left the grid.
+  void migrate(ParticleSet& p, Positions& reference) {
+    const bool with_reference = reference.cols() > 0;
+    const int width = record_width(with_reference);
+    const auto& partners = sub_.partners();
+    out_.assign(partners.size(), {});
+    // The owned particles still in the window (those that left the block stay as ghosts: no
+    // other rank sends them here), as records too: one way in.
+    kept_.clear();
+    Index k{};
+    for (int i = 0; i < owned_; ++i) {
+      if (!sub_.locate(p.position.col(i), k)) throw_outside_grid(p, i);
+      const int owner = sub_.owner(k);
+      if (sub_.holds(k)) pack(p, reference, i, kept_);
+      bool sent_to_owner = owner == sub_.rank();
+      for (std::size_t j = 0; j < partners.size(); ++j) {
+        if (!sub_.partner_holds(static_cast<int>(j), k)) continue;
+        pack(p, reference, i, out_[j]);
+        sent_to_owner = sent_to_owner || partners[j] == owner;
+      }
+      if (!sent_to_owner)
+        throw std::runtime_error("particle " + std::to_string(p.id[i]) + " moved by more than " +
+                                 "the ghost layers in one step: past the ranks next to rank " +
+                                 std::to_string(sub_.rank()));
+    }
+    exchange();
+    // The new local set: every record, owned particles first, each part in global order.
+    struct Entry {
+      long global;
+      const double* record;
+    };
+    std::vector<Entry> owned, ghosts;
+    const auto sort_in = [&](const std::vector<double>& buffer) {
+      for (std::size_t e = 0; e < buffer.size(); e += width) {
+        const double* r = buffer.data() + e;
+        Eigen::Map<const Eigen::Matrix<double, Dim, 1>> x(r + kPosition);
+        sub_.locate(x, k);
+        (sub_.owns(k) ? owned : ghosts).push_back({static_cast<long>(r[kGlobal]), r});
+      }
+    };
+    sort_in(kept_);
+    for (const auto& buffer : in_) sort_in(buffer);
+    const auto by_global = [](const Entry& a, const Entry& b) { return a.global < b.global; };
+    std::sort(owned.begin(), owned.end(), by_global);
+    std::sort(ghosts.begin(), ghosts.end(), by_global);
+    const int n = static_cast<int>(owned.size() + ghosts.size());
+    ParticleSet next;
+    next.resize(n);
+    Positions next_reference(Dim, with_reference ? n : 0);
+    global_.resize(n);
+    owned_ = static_cast<int>(owned.size());
+    for (int i = 0; i < n; ++i) {
+      const Entry& e = i < owned_ ? owned[i] : ghosts[i - owned_];
+      global_[i] = e.global;
+      unpack(e.record, next, next_reference, i);
+    }
+    p = std::move(next);
+    reference = std::move(next_reference);
+  }
+
+  // Columns of the owned particles (the first owned() columns of `local`), gathered on rank 0 in
+  // the serial run's order; an empty matrix on the other ranks.
+  Eigen::MatrixXd gather(const Eigen::MatrixXd& local) const {
+    const int rows = static_cast<int>(local.rows());
+    std::vector<double> mine;
+    mine.reserve(static_cast<std::size_t>(owned_) * (rows + 1));
+    for (int i = 0; i < owned_; ++i) {
+      mine.push_back(static_cast<double>(global_[i]));
+      for (int r = 0; r < rows; ++r) mine.push_back(local(r, i));
+    }
+    const std::vector<double> all = comm_.gather(mine);
+    if (sub_.rank() != 0) return {};
+    const long n = static_cast<long>(all.size()) / (rows + 1);
+    Eigen::MatrixXd out(rows, n);
+    for (long e = 0; e < n; ++e) {
+      const long g = static_cast<long>(all[e * (rows + 1)]);
+      if (g < 0 || g >= n) throw std::logic_error("halo: gathered particle index out of range");
+      for (int r = 0; r < rows; ++r) out(r, g) = all[e * (rows + 1) + 1 + r];
+    }
+    return out;
+  }
+
+ private:
+  // A moving particle's record: global index, id, material, mass, volume, position, state,
+  // (reference position): doubles hold the integers exactly (below 2^53).
+  static constexpr int kGlobal = 0, kId = 1, kMaterial = 2, kMass = 3, kVolume = 4, kPosition = 5,
+                       kState = kPosition + Dim, kReference = kState + NComp;
+  static int record_width(bool with_reference) { return kReference + (with_reference ? Dim : 0); }
+
+  void exchange() {
+    const auto start = std::chrono::steady_clock::now();
+    comm_.exchange(sub_.partners(), out_, in_);
+    traffic_.seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++traffic_.exchanges;
+    for (const auto& o : out_) traffic_.bytes_sent += 8.0 * static_cast<double>(o.size());
+  }
+
+  void pack(const ParticleSet& p, const Positions& reference, int i,
+            std::vector<double>& out) const {
+    out.push_back(static_cast<double>(global_[i]));
+    out.push_back(p.id[i]);
+    out.push_back(p.material[i]);
+    out.push_back(p.mass[i]);
+    out.push_back(p.volume[i]);
+    for (int l = 0; l < Dim; ++l) out.push_back(p.position(l, i));
+    for (int r = 0; r < NComp; ++r) out.push_back(p.state(r, i));
+    if (reference.cols() > 0)
+      for (int l = 0; l < Dim; ++l) out.push_back(reference(l, i));
+  }
+  static void unpack(const double* r, ParticleSet& p, Positions& reference, int i) {
+    p.id[i] = static_cast<int>(r[kId]);
+    p.material[i] = static_cast<int>(r[kMaterial]);
+    p.mass[i] = r[kMass];
+    p.volume[i] = r[kVolume];
+    for (int l = 0; l < Dim; ++l) p.position(l, i) = r[kPosition + l];
+    for (int c = 0; c < NComp; ++c) p.state(c, i) = r[kState + c];
+    if (reference.cols() > 0)
+      for (int l = 0; l < Dim; ++l) reference(l, i) = r[kReference + l];
+  }
+  static Positions select_columns(const Positions& m, const std::vector<int>& order) {
+    Positions out(Dim, static_cast<Eigen::Index>(order.size()));
+    for (std::size_t i = 0; i < order.size(); ++i)
+      out.col(static_cast<Eigen::Index>(i)) = m.col(order[i]);
+    return out;
+  }
+
+  Communicator& comm_;
+  Subdomain<Dim> sub_;
+  std::vector<char> owned_cell_;
+  std::vector<long> global_;  // serial index of each local particle
+  int owned_ = 0;
+  std::vector<std::vector<int>> send_, receive_;  // fixed particles: local indices per partner
+  std::vector<std::vector<double>> out_, in_;
+  std::vector<double> kept_;
+  Traffic traffic_;
+};
+
+}  // namespace dgmpm

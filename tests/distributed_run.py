@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""`mpirun -np N dgmpm run SCENE` against the serial `dgmpm run SCENE`: the particle CSV files are
+the same bytes; the summary holds the same particles, cells, steps, times and errors, the energy
+to round-off (a sum over ranks), and the load balance (particles per rank, imbalance); the VTK
+output (one .pvtu per output time, one piece per rank) read back with Debian's VTK
+(vtkXMLPUnstructuredGridReader through vtkXMLPUnstructuredGridReader's parallel twin) holds the
+serial .vtu's particles and fields.
+
+    python3 tests/distributed_run.py MPIEXEC NP build/bin/dgmpm scenes/plate_impact.json ...
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def run(command, out):
+    result = subprocess.run(command + ["--out", out, "--json"], check=True, capture_output=True,
+                            text=True)
+    return json.loads(result.stdout)
+
+
+def arrays_by_id(data):
+    """Point arrays and coordinates of a data set, rows ordered by particle id."""
+    points = data.GetPointData()
+    ids = vtk_to_numpy(points.GetArray("id"))
+    order = ids.argsort()
+    out = {"points": vtk_to_numpy(data.GetPoints().GetData())[order]}
+    for k in range(points.GetNumberOfArrays()):
+        out[points.GetArrayName(k)] = vtk_to_numpy(points.GetArray(k))[order]
+    return out
+
+
+def read(path, parallel):
+    reader = vtk.vtkXMLPUnstructuredGridReader() if parallel else vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
+
+
+def compare(mpiexec, np, binary, scene):
+    name = os.path.basename(scene)
+    top = tempfile.mkdtemp(prefix="dgmpm_mpi_")
+    serial_dir, split_dir = os.path.join(top, "serial"), os.path.join(top, "split")
+    serial = run([binary, "run", scene], serial_dir)
+    split = run([mpiexec, "-np", str(np), "--oversubscribe", binary, "run", scene], split_dir)
+
+    for key in ["particles", "cells", "steps", "final_time", "dt_min", "dt_max", "errors"]:
+        check(serial.get(key) == split.get(key),
+              f"{name}: summary {key}: {serial.get(key)} vs {split.get(key)}")
+    e0, e1 = serial["energy_final"], split["energy_final"]
+    check(abs(e0 - e1) <= 1e-12 * abs(e0), f"{name}: energy_final {e0} vs {e1}")
+    counts = split.get("particles_per_rank", [])
+    check(split.get("ranks") == np and len(counts) == np, f"{name}: ranks {split.get('ranks')}")
+    check(sum(counts) == serial["particles"], f"{name}: particles per rank {counts}")
+    if counts:
+        expected = max(counts) * np / serial["particles"]
+        check(abs(split["imbalance"] - expected) < 1e-12, f"{name}: imbalance {split['imbalance']}")
+
+    csvs = sorted(f for f in os.listdir(serial_dir) if f.startswith("particles_") and
+                  f.endswith(".csv"))
+    check(len(csvs) > 0, f"{name}: serial CSV files")
+    for f in csvs:
+        with open(os.path.join(serial_dir, f), "rb") as a, open(os.path.join(split_dir, f), "rb") as b:
+            check(a.read() == b.read(), f"{name}: {f} differs")
+
+    pvd = os.path.join(split_dir, "particles.pvd")
+    if not os.path.exists(os.path.join(serial_dir, "particles.pvd")):
+        return
+    sets = ET.parse(pvd).getroot().find("Collection").findall("DataSet")
+    serial_sets = ET.parse(os.path.join(serial_dir, "particles.pvd")).getroot().find(
+        "Collection").findall("DataSet")
+    check(len(sets) == len(serial_sets), f"{name}: {len(sets)} data sets in particles.pvd")
+    for s, t in zip(serial_sets, sets):
+        check(s.get("timestep") == t.get("timestep"), f"{name}: times {s.get('timestep')}")
+        check(t.get("file").endswith(".pvtu"), f"{name}: {t.get('file')} is not a .pvtu")
+        pieces = [p.get("Source") for p in ET.parse(os.path.join(split_dir, t.get("file")))
+                  .getroot().iter("Piece")]
+        check(len(pieces) == np, f"{name}: {len(pieces)} pieces in {t.get('file')}")
+        a = arrays_by_id(read(os.path.join(serial_dir, s.get("file")), False))
+        b = arrays_by_id(read(os.path.join(split_dir, t.get("file")), True))
+        check(sorted(a) == sorted(b), f"{name}: arrays {sorted(a)} vs {sorted(b)}")
+        for key in a:
+            if key in b:
+                check(a[key].shape == b[key].shape and (a[key] == b[key]).all(),
+                      f"{name}: {t.get('file')} array {key} differs from the serial .vtu")
+
+
+def main():
+    mpiexec, np, binary = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+    for scene in sys.argv[4:]:
+        compare(mpiexec, np, binary, scene)
+    if failures:
+        print(f"{len(failures)} failures")
+        sys.exit(1)
+    print("ok")
+
+
+if __name__ == "__main__":
+    main()
