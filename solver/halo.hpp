@@ -170,6 +170,14 @@ class Halo {
     reference = std::move(next_reference);
   }
 
+  // A restart: `p` holds this rank's owned particles (in the serial order, `global` their serial
+  // indices) from its checkpoint; the ghosts come from their owners.
+  void restore(ParticleSet& p, Positions& reference, const std::vector<long>& global) {
+    owned_ = p.size();
+    global_ = global;
+    migrate(p, reference);
+  }
+
   // Columns of the owned particles (the first owned() columns of `local`), gathered on rank 0 in
   // the serial run's order; an empty matrix on the other ranks.
   Eigen::MatrixXd gather(const Eigen::MatrixXd& local) const {

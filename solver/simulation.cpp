@@ -453,6 +453,12 @@ std::string particle_file(std::size_t k, const char* ext) {
   std::snprintf(name, sizeof name, "particles_%03zu.%s", k, ext);
   return name;
 }
+// A distributed run's checkpoint: rank 0 writes `name`, rank R > 0 its piece name_rR.ckpt.
+std::string checkpoint_piece(const std::string& name, int rank) {
+  if (rank == 0) return name;
+  const std::string stem = name.substr(0, name.size() - std::string(".ckpt").size());
+  return stem + "_r" + std::to_string(rank) + ".ckpt";
+}
 // particles_NNN_rR.vtu: rank R's piece of the k-th output of a distributed run.
 std::string piece_file(std::size_t k, int rank) {
   char name[64];
@@ -501,15 +507,18 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   if (checkpoints && !writes)
     throw scene::SceneError(scene_.source +
                             ": checkpoints need an output directory (output.directory or --out)");
-  if (checkpoints && halo_)
-    throw scene::SceneError(
-        scene_.source + ": checkpoints are not written by distributed runs yet; allowed on " +
-        std::to_string(halo_->comm().size()) + " MPI ranks: a run without --checkpoint-every");
   const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
   const auto& output_times = scene_.output.times;
   std::optional<output::DirectoryClaim> claim;
   const bool land = scene_.output.land;
   std::vector<std::string> planned;
+  // A checkpoint's files: one, or one per rank.
+  const auto checkpoint_files = [&](const std::string& name) {
+    std::vector<std::string> files{name};
+    for (int r = 1; halo_ && r < halo_->comm().size(); ++r)
+      files.push_back(checkpoint_piece(name, r));
+    return files;
+  };
   // A distributed run's VTU outputs: a .pvtu and one piece per rank.
   const auto vtu_file = [&](std::size_t k) { return particle_file(k, halo_ ? "pvtu" : "vtu"); };
   if (writes) output::create_directories(directory);
@@ -525,7 +534,8 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     planned.push_back("energy.csv");
     planned.push_back("summary.json");
     std::vector<std::string> listed = planned;
-    listed.insert(listed.end(), done.checkpoints.begin(), done.checkpoints.end());
+    for (const auto& c : done.checkpoints)
+      for (const auto& f : checkpoint_files(c)) listed.push_back(f);
     claim.emplace(directory, scene_.source, listed, options.overwrite, resumed);
   }
   if (writes && halo_) halo_->comm().barrier();  // the claim cleared the directory
@@ -547,8 +557,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   const std::string history_path = directory + "/energy.csv";
   const char* history_header = "step,time,dt,kinetic,elastic,total,boundary_work\n";
   // Energies are sums over the ranks: every rank computes them, rank 0 writes.
-  const auto write_history = [&](std::ostream* out, double dt) {
-    const Energy e = energy_parts();
+  const auto write_history = [&](std::ostream* out, double dt, const Energy& e) {
     if (!out) return;
     *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ','
          << e.total() << ',' << work_ << '\n';
@@ -556,22 +565,25 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   std::ostream* history = nullptr;
   const bool commits = checkpoints || resumed;
   if (writes && commits) {
-    if (!resumed || !committed.resume(history_path, done.history_bytes, done.history_hash)) {
+    const bool initial_row = !resumed || steps_ == 0;
+    const Energy e = initial_row ? energy_parts() : Energy{};
+    if (root() &&
+        (!resumed || !committed.resume(history_path, done.history_bytes, done.history_hash))) {
       if (resumed)
         warnings_.push_back(history_path + " does not hold the energy history the checkpoint " +
                             "recorded: it restarts at step " + std::to_string(steps_));
       committed.create(history_path);
       committed.stream() << history_header;
-      if (!resumed || steps_ == 0) write_history(&committed.stream(), 0.0);
+      if (initial_row) write_history(&committed.stream(), 0.0, e);
     }
-    history = &committed.stream();
+    if (root()) history = &committed.stream();
   } else if (writes) {
     if (root()) {
       streamed = output::StreamedFile(history_path);
       streamed.stream() << history_header;
       history = &streamed.stream();
     }
-    write_history(history, 0.0);
+    write_history(history, 0.0, energy_parts());
   }
 
   // The step count up front: a run that would need more than time.max_steps is refused.
@@ -621,10 +633,13 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   if (options.checkpoint_seconds > 0)
     next_checkpoint_time =
         (std::floor(time_ / options.checkpoint_seconds) + 1) * options.checkpoint_seconds;
+  const int rank = halo_ ? halo_->comm().rank() : 0;
   const auto take_checkpoint = [&] {
-    committed.commit();
-    done.history_bytes = committed.bytes();
-    done.history_hash = committed.hash();
+    if (root()) {
+      committed.commit();
+      done.history_bytes = committed.bytes();
+      done.history_hash = committed.hash();
+    }
     done.checkpoint_step = steps_;
     char name[64];
     std::snprintf(name, sizeof name, "checkpoint_%09ld.ckpt", steps_);
@@ -637,11 +652,16 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
         kept.erase(kept.begin());
       }
     done.checkpoints = kept;  // recorded in the checkpoint itself
-    write_checkpoint(directory + "/" + name);
-    std::vector<std::string> listed = planned;
-    listed.insert(listed.end(), kept.begin(), kept.end());
-    claim->record(listed);
-    for (const auto& f : dropped) std::filesystem::remove(directory + "/" + f);
+    write_checkpoint(directory + "/" + checkpoint_piece(name, rank));
+    if (halo_) halo_->comm().barrier();  // every piece written before the manifest lists it
+    if (root()) {
+      std::vector<std::string> listed = planned;
+      for (const auto& c : kept)
+        for (const auto& f : checkpoint_files(c)) listed.push_back(f);
+      claim->record(listed);
+    }
+    for (const auto& f : dropped)
+      std::filesystem::remove(directory + "/" + checkpoint_piece(f, rank));
   };
 
   for (;;) {
@@ -671,7 +691,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     // The range of the controlled step; steps shortened to land on a time are not counted.
     done.dt_min = std::min(done.dt_min, controlled);
     done.dt_max = std::max(done.dt_max, controlled);
-    if (writes) write_history(history, dt);
+    if (writes) write_history(history, dt, energy_parts());
     if (progress) {
       const auto now = clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
@@ -787,7 +807,16 @@ void checkpoint_arrays(ParticleSet& p, Positions& reference, Visit&& visit) {
 template <class Physics>
 void Simulation<Physics>::write_checkpoint(const std::string& path) const {
   using checkpoint::bits;
-  const auto& p = problem_.particles;
+  // Distributed: this rank's owned particles and their places in the serial arrays.
+  const int n = owned_particles();
+  std::vector<int> first(n);
+  std::iota(first.begin(), first.end(), 0);
+  const ParticleSet owned = halo_ ? problem_.particles.select(first) : ParticleSet{};
+  const ParticleSet& p = halo_ ? owned : problem_.particles;
+  const Eigen::Matrix<double, dim, Eigen::Dynamic> reference =
+      reference_position_.leftCols(reference_position_.cols() > 0 ? n : 0);
+  std::vector<long> global(halo_ ? n : 0);
+  for (std::size_t i = 0; i < global.size(); ++i) global[i] = halo_->global_index(int(i));
   const Progress& d = progress_;
   nlohmann::json series = nlohmann::json::array();
   for (const auto& [t, name] : d.series) series.push_back({bits(t), name});
@@ -822,33 +851,53 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
         {"history_bytes", d.history_bytes},
         {"history_hash", d.history_hash},
         {"checkpoint_step", d.checkpoint_step}}}};
+  if (halo_) {
+    file.header["ranks"] = halo_->comm().size();
+    file.header["rank"] = halo_->comm().rank();
+  }
   checkpoint::PayloadWriter w(file.payload);
-  checkpoint_arrays(p, reference_position_, [&](const auto& a) { put(w, a); });
+  checkpoint_arrays(p, reference, [&](const auto& a) { put(w, a); });
+  if (halo_) put(w, global);
   checkpoint::write(path, file);
 }
 
 template <class Physics>
 void Simulation<Physics>::restore(const std::string& path) {
   using checkpoint::from_bits;
-  const checkpoint::File file = checkpoint::read(path);
+  // Distributed: each rank reads its piece (rank 0 the named file) of a run on as many ranks.
+  const int rank = halo_ ? halo_->comm().rank() : 0, ranks = halo_ ? halo_->comm().size() : 1;
+  const std::string piece = checkpoint_piece(path, rank);
+  const checkpoint::File file = checkpoint::read(piece);
   const nlohmann::json& h = file.header;
-  checkpoint::check_compatible(path, h, scene_);
-  if (halo_)
-    throw scene::SceneError(path + ": cannot restart a distributed run yet; allowed on " +
-                            std::to_string(halo_->comm().size()) + " MPI ranks: no --restart");
+  checkpoint::check_compatible(piece, h, scene_);
   auto& p = problem_.particles;
   try {
-    if (h.at("dimension") != dim || h.at("components") != ncomp || h.at("particles") != p.size())
-      throw scene::SceneError(path + ": cannot restart from this checkpoint: it holds " +
-                              h.at("particles").dump() + " particles in " +
-                              h.at("dimension").dump() + "D, the scene " +
-                              std::to_string(p.size()) + " in " + std::to_string(dim) + "D");
+    if (h.value("ranks", 1) != ranks || h.value("rank", 0) != rank)
+      throw scene::SceneError(piece + ": cannot restart from this checkpoint: it is rank " +
+                              std::to_string(h.value("rank", 0)) + "'s of a run on " +
+                              std::to_string(h.value("ranks", 1)) +
+                              " rank(s); allowed: a restart " + "on as many ranks (mpirun -np " +
+                              std::to_string(h.value("ranks", 1)) + ")");
+    const int n = halo_ ? h.at("particles").get<int>() : p.size();
+    if (h.at("dimension") != dim || h.at("components") != ncomp || h.at("particles") != n ||
+        n < 0 || n > total_particles_)
+      throw scene::SceneError(
+          piece + ": cannot restart from this checkpoint: it holds " + h.at("particles").dump() +
+          " particles in " + h.at("dimension").dump() + "D, the scene " +
+          std::to_string(total_particles_) + " in " + std::to_string(dim) + "D");
     ParticleSet restored;
-    restored.resize(p.size());
-    Eigen::Matrix<double, dim, Eigen::Dynamic> reference(dim, reference_position_.cols());
-    checkpoint::PayloadReader r(path, file.payload);
+    restored.resize(n);
+    Eigen::Matrix<double, dim, Eigen::Dynamic> reference(dim,
+                                                         reference_position_.cols() > 0 ? n : 0);
+    std::vector<long> global(halo_ ? n : 0);
+    checkpoint::PayloadReader r(piece, file.payload);
     checkpoint_arrays(restored, reference, [&](auto& a) { get(r, a); });
+    if (halo_) get(r, global);
     r.expect_end();
+    for (std::size_t i = 0; i < global.size(); ++i)
+      if (global[i] < 0 || global[i] >= total_particles_ || (i > 0 && global[i] <= global[i - 1]))
+        throw scene::SceneError(piece +
+                                ": cannot restart from this checkpoint: corrupt particle order");
     for (int m : restored.material)
       if (m < 0 || m >= static_cast<int>(problem_.materials.size()))
         throw scene::SceneError(path + ": cannot restart from this checkpoint: corrupt material");
@@ -881,6 +930,7 @@ void Simulation<Physics>::restore(const std::string& path) {
     warnings_ = h.at("warnings").get<std::vector<std::string>>();
     p = std::move(restored);
     reference_position_ = std::move(reference);
+    if (halo_) halo_->restore(p, reference_position_, global);  // the ghosts, from their owners
     progress_ = std::move(d);
     if (mpm_) mpm_->set_load_work(u(h, "mpm_load_work"));
     if (stepper_) stepper_->rebuild(p, problem_.materials);

@@ -10,6 +10,7 @@ serial .vtu's particles and fields.
 """
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -99,10 +100,46 @@ def compare(mpiexec, np, binary, scene):
                       f"{name}: {t.get('file')} array {key} differs from the serial .vtu")
 
 
+def restart(mpiexec, np, binary, scene, every):
+    """An uninterrupted distributed run with checkpoints, then a restart from its middle one."""
+    name = os.path.basename(scene)
+    top = tempfile.mkdtemp(prefix="dgmpm_mpi_ckpt_")
+    serial_dir, whole, resumed = (os.path.join(top, d) for d in ("serial", "whole", "resumed"))
+    run([binary, "run", scene], serial_dir)
+    mpi = [mpiexec, "-np", str(np), "--oversubscribe", binary, "run", scene]
+    first = run(mpi + ["--checkpoint-every", str(every)], whole)
+    shutil.copytree(whole, resumed)
+    main_files = sorted(f for f in os.listdir(whole) if f.endswith(".ckpt") and "_r" not in f)
+    pieces = [f for f in os.listdir(whole) if f.endswith(".ckpt") and "_r" in f]
+    check(len(main_files) >= 2 and len(pieces) == (np - 1) * len(main_files),
+          f"{name}: {len(main_files)} checkpoints, {len(pieces)} pieces on {np} ranks")
+    middle = os.path.join(resumed, main_files[len(main_files) // 2])
+    again = run(mpi + ["--restart", middle], resumed)
+    check(again["steps"] == first["steps"] and again["final_time"] == first["final_time"],
+          f"{name}: restart steps {again['steps']} vs {first['steps']}")
+    for f in sorted(os.listdir(serial_dir)):
+        if f.startswith("particles_") and f.endswith(".csv"):
+            with open(os.path.join(serial_dir, f), "rb") as a, \
+                    open(os.path.join(resumed, f), "rb") as b:
+                check(a.read() == b.read(), f"{name}: {f} after the restart differs from serial")
+    with open(os.path.join(whole, "energy.csv"), "rb") as a, \
+            open(os.path.join(resumed, "energy.csv"), "rb") as b:
+        check(a.read() == b.read(), f"{name}: energy.csv after the restart differs")
+    other = subprocess.run([binary, "run", scene, "--out", resumed, "--restart", middle],
+                           capture_output=True, text=True)
+    check(other.returncode == 2 and f"mpirun -np {np}" in other.stderr,
+          f"{name}: a serial restart from {np} ranks' checkpoint: exit {other.returncode}, "
+          f"{other.stderr.strip()}")
+
+
 def main():
     mpiexec, np, binary = sys.argv[1], int(sys.argv[2]), sys.argv[3]
     for scene in sys.argv[4:]:
         compare(mpiexec, np, binary, scene)
+    restart(mpiexec, np, binary, sys.argv[4], 20)  # the 2D plate
+    moving = [s for s in sys.argv[4:] if "moving" in s]
+    if moving:
+        restart(mpiexec, np, binary, moving[0], 200)
     if failures:
         print(f"{len(failures)} failures")
         sys.exit(1)
