@@ -6,6 +6,7 @@
 
 #include "cartesian_ranks.hpp"
 #include "common/grids.hpp"
+#include "common/mpi_session.hpp"
 
 #include <mpi.h>
 
@@ -15,11 +16,6 @@ using namespace dgmpm;
 using test::grid;
 
 namespace {
-
-struct MpiSession {
-  MpiSession() { MPI_Init(nullptr, nullptr); }
-  ~MpiSession() { MPI_Finalize(); }
-};
 
 template <int D>
 void agrees_with_mpi(const Grid<D>& g) {
@@ -57,8 +53,6 @@ void agrees_with_mpi(const Grid<D>& g) {
 }
 
 }  // namespace
-
-BOOST_TEST_GLOBAL_FIXTURE(MpiSession);
 
 BOOST_AUTO_TEST_CASE(layouts_agree_with_mpi_topologies) {
   for (bool p : {false, true}) agrees_with_mpi<1>(grid<1>({12}, {p}));

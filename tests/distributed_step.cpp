@@ -8,6 +8,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include "common/loaded_scenes.hpp"
+#include "common/mpi_session.hpp"
 #include "mpi_communicator.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
@@ -22,12 +23,6 @@ using namespace dgmpm;
 using nlohmann::json;
 
 namespace {
-
-struct MpiSession {
-  MpiSession() { MPI_Init(nullptr, nullptr); }
-  ~MpiSession() { MPI_Finalize(); }
-};
-BOOST_TEST_GLOBAL_FIXTURE(MpiSession);
 
 int world_size() {
   int n = 0;
