@@ -17,7 +17,6 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,7 +30,8 @@ class Halo {
   using Positions = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
   using Index = std::array<int, Dim>;
 
-  // depth: ghost layers (the integrator's stages).
+  // On `subdomain` (its window's depth: one ghost layer per stage); distribute() gives the
+  // particles.
   Halo(Communicator& comm, const Subdomain<Dim>& subdomain) : comm_(comm), sub_(subdomain) {
     owned_cell_.resize(sub_.window().num_cells());
     for (int c = 0; c < sub_.window().num_cells(); ++c)
@@ -115,7 +115,8 @@ class Halo {
     const bool with_reference = reference.cols() > 0;
     const int width = record_width(with_reference);
     const auto& partners = sub_.partners();
-    out_.assign(partners.size(), {});
+    out_.resize(partners.size());
+    for (auto& o : out_) o.clear();  // capacity kept from step to step
     // The owned particles still in the window (those that left the block stay as ghosts: no
     // other rank sends them here), as records too: one way in.
     kept_.clear();
