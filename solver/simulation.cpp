@@ -232,13 +232,30 @@ void Simulation<Physics>::warn_if_above_admissible() {
 // the scene asks for the fill correction, which removes the cause).
 template <class Physics>
 void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
-  // The rebuild found the first over-full cell (no pass over the cells here).
+  // The rebuild found the first over-full cell (no pass over the cells here); over ranks, the
+  // first of theirs by the grid's numbering (every rank says the same).
   const auto& disc = stepper_->discretisation();
-  const int c = disc.first_overfull_cell();
-  if (c < 0) return;
+  int c = disc.first_overfull_cell();
+  if (halo_ && c >= 0) {
+    // A window's numbering wraps across periodic sides: the rank's first owned over-full cell by
+    // the grid's numbering (a pass over the window, only once it has one).
+    c = -1;
+    for (int k = 0; k < disc.num_cells(); ++k)
+      if (halo_->owns_cell(k) && disc.occupied(k) && disc.overfull(k) &&
+          (c < 0 || full_cell(k) < full_cell(c)))
+        c = k;
+  }
+  double cell = c >= 0 ? full_cell(c) : -1, fill = c >= 0 ? disc.fill(c) : 0;
+  if (halo_) {
+    constexpr double none = std::numeric_limits<double>::infinity();
+    const double mine = c >= 0 ? cell : none, first = halo_->comm().min(mine);
+    fill = halo_->comm().min(mine == first ? fill : none);
+    cell = first == none ? -1 : first;
+  }
+  if (cell < 0) return;
   std::ostringstream s;
-  s << format_step(step, t) << ": cell " << full_cell(c) << " holds " << std::setprecision(6)
-    << disc.fill(c)
+  s << format_step(step, t) << ": cell " << static_cast<long>(cell) << " holds "
+    << std::setprecision(6) << fill
     << " times a full cell's mass; the operators do not preserve constant states in an "
        "over-full cell, so new extrema can appear whatever the time step (\"fill_correction\": "
        "true restores them)";

@@ -37,6 +37,7 @@ long sum_over_ranks(long v) {
 
 struct Outcome {
   long compared = 0, differing = 0, migrated = 0;
+  std::size_t warnings = 0;
   double largest = 0;
 };
 
@@ -70,6 +71,10 @@ Outcome compare(const json& doc, int steps) {
     o.largest = std::max(o.largest, (d.state.col(i) - s.state.col(g)).cwiseAbs().maxCoeff());
     o.migrated += !owned_before.count(d.id[i]);
   }
+  // The same warnings on every rank as in the serial run (over-full cells found by any rank).
+  BOOST_TEST(split.warnings() == serial.warnings());
+
+  o.warnings = serial.warnings().size();
   o.compared = sum_over_ranks(split.owned_particles());
   o.differing = sum_over_ranks(o.differing);
   o.migrated = sum_over_ranks(o.migrated);
@@ -154,6 +159,7 @@ BOOST_AUTO_TEST_CASE(particles_migrate_between_ranks) {
   const Outcome bar_run = compare<ElasticBar>(ring, 30);
   BOOST_TEST(bar_run.differing == 0);
   BOOST_TEST(bar_run.migrated > 0, "1D: " << bar_run.migrated << " particles changed rank");
+  BOOST_TEST(bar_run.warnings > 0);  // the impact piles particles up: an over-full cell
   const Outcome plate_run = compare<PlaneStrain>(
       fast(test::periodic(test::filled(plate("dcu", "euler", true)), {true, true})), 60);
   BOOST_TEST(plate_run.differing == 0);

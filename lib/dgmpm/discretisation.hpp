@@ -230,6 +230,10 @@ class Discretisation {
   int num_particles() const {
     return static_cast<int>(entries_.size());
   }
+  // Whether occupied cell c's fill exceeds 1 + overfull_tolerance.
+  bool overfull(int c) const {
+    return fill(c) > 1.0 + overfull_tolerance;
+  }
   // The first cell (by index) whose fill exceeds 1 + overfull_tolerance, or -1: found by the
   // build, so that no pass over the cells looks for it.
   int first_overfull_cell() const {
@@ -272,7 +276,7 @@ class Discretisation {
 
   // The over-full check and the fill correction of an occupied cell whose material is set.
   void finish_cell(int c, double cell_mass, int& first_overfull) {
-    if (fill(c) > 1.0 + overfull_tolerance) first_overfull = std::min(first_overfull, c);
+    if (overfull(c)) first_overfull = std::min(first_overfull, c);
     if (fill_correction_)
       stiffness_scale_[c] = Physics::density(cell_material(c)) * cell_volume_ / cell_mass;
   }
