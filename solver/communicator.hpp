@@ -5,6 +5,7 @@
 // the same order. Called a few times per step, never inside the per-cell loops.
 
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace dgmpm {
@@ -29,6 +30,12 @@ class Communicator {
   virtual void barrier() = 0;
   // Ends every rank of the run with `code` (an error on one rank while the others wait).
   [[noreturn]] virtual void abort(int code) = 0;
+};
+
+// Thrown by the ranks of a distributed run that stop for an error another rank reports (with
+// the details only it has).
+struct RankStopped : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 // The ranks the binary was launched on: set by an MPI build started by mpirun (main), read by

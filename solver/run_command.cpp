@@ -93,15 +93,18 @@ int run(const RunArguments& args) {
   Communicator* const run_ranks = launched_ranks();
   const bool distributed = run_ranks && run_ranks->size() > 1;
   const bool root = !distributed || run_ranks->rank() == 0;
-  // On several ranks an error on one leaves the others waiting: it ends them all.
-  const auto fail = [&](const char* what, int code, bool every_rank) {
+  // On several ranks an error on one leaves the others waiting: it ends them all. Who says it:
+  // the rank that met it; rank 0 for a scene's error (every rank meets it); another rank for
+  // RankStopped. A rank that leaves it to another waits, then speaks only if still alive (the
+  // error was its alone).
+  enum class Speaker { self, root, another };
+  const auto fail = [&](const char* what, int code, Speaker speaker) {
     if (!distributed) {
       std::cerr << "error: " << what << std::endl;
       return code;
     }
-    // Rank 0 says a scene's error; the others leave it time to, then speak only if still alive
-    // (the error was theirs alone).
-    if (every_rank && !root) std::this_thread::sleep_for(std::chrono::seconds(2));
+    if ((speaker == Speaker::root && !root) || speaker == Speaker::another)
+      std::this_thread::sleep_for(std::chrono::seconds(2));
     {
       const std::string line = "error (rank " + std::to_string(run_ranks->rank()) + " of " +
                                std::to_string(run_ranks->size()) + "): " + what + "\n";
@@ -142,9 +145,11 @@ int run(const RunArguments& args) {
     }
     return 0;
   } catch (const scene::SceneError& e) {
-    return fail(e.what(), 2, true);
+    return fail(e.what(), 2, Speaker::root);
+  } catch (const RankStopped& e) {
+    return fail(e.what(), 1, Speaker::another);
   } catch (const std::exception& e) {
-    return fail(e.what(), 1, false);
+    return fail(e.what(), 1, Speaker::self);
   }
 }
 

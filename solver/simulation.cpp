@@ -331,6 +331,9 @@ void Simulation<Physics>::check_growth() {
   double most = -1;
   for (int i = 0; i < owned_particles(); ++i)
     if (const double ei = particle_energy(i).total(); ei > most) most = ei, worst = i;
+  // Distributed: the rank holding the largest says where; the others stop.
+  if (halo_ && halo_->comm().min(-most) != -most)
+    throw RankStopped("the run is unstable (another rank names the particle)");
   Eigen::Matrix<double, dim, 1> xi;
   const int cell = full_grid().locate(p.position.col(worst), xi);
   std::ostringstream s;

@@ -132,11 +132,33 @@ def restart(mpiexec, np, binary, scene, every):
           f"{other.stderr.strip()}")
 
 
+def blow_up(mpiexec, np, binary, scene):
+    """A run that blows up stops every rank with the serial run's message (step, time, particle,
+    cell), said once, and exit code 1."""
+    top = tempfile.mkdtemp(prefix="dgmpm_mpi_blow_")
+    with open(scene) as f:
+        doc = json.load(f)
+    doc["time"]["courant"] = 3.0
+    doc.pop("output", None)
+    path = os.path.join(top, "blow.json")
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    serial = subprocess.run([binary, "run", path], capture_output=True, text=True)
+    split = subprocess.run([mpiexec, "-np", str(np), "--oversubscribe", binary, "run", path],
+                           capture_output=True, text=True)
+    said = [l.split("): ", 1)[1] for l in split.stderr.splitlines() if l.startswith("error (rank")]
+    expected = [l[len("error: "):] for l in serial.stderr.splitlines() if l.startswith("error: ")]
+    check(serial.returncode == 1 and "unstable" in serial.stderr, f"serial blow-up: {serial.stderr}")
+    check(split.returncode != 0 and said == expected,
+          f"blow-up on {np} ranks: exit {split.returncode}, said {said}, serial {expected}")
+
+
 def main():
     mpiexec, np, binary = sys.argv[1], int(sys.argv[2]), sys.argv[3]
     for scene in sys.argv[4:]:
         compare(mpiexec, np, binary, scene)
     restart(mpiexec, np, binary, sys.argv[4], 20)  # the 2D plate
+    blow_up(mpiexec, np, binary, sys.argv[4])
     moving = [s for s in sys.argv[4:] if "moving" in s]
     if moving:
         restart(mpiexec, np, binary, moving[0], 200)
