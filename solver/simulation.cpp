@@ -329,7 +329,8 @@ void Simulation<Physics>::check_growth() {
   const auto& p = problem_.particles;
   int worst = 0;
   double most = -1;
-  for (int i = 0; i < owned_particles(); ++i)
+  const int n = owned_particles();
+  for (int i = 0; i < n; ++i)
     if (const double ei = particle_energy(i).total(); ei > most) most = ei, worst = i;
   // Distributed: the rank holding the largest says where; the others stop.
   if (halo_ && halo_->comm().min(-most) != -most)
@@ -397,7 +398,8 @@ typename Simulation<Physics>::Field Simulation<Physics>::physical_state() const 
 template <class Physics>
 typename Simulation<Physics>::Energy Simulation<Physics>::energy_parts() const {
   Energy e;
-  for (int i = 0; i < owned_particles(); ++i) {
+  const int n = owned_particles();
+  for (int i = 0; i < n; ++i) {
     const Energy ei = particle_energy(i);
     e.kinetic += ei.kinetic;
     e.elastic += ei.elastic;
