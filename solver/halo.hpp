@@ -58,27 +58,33 @@ class Halo {
   // positions, or an empty matrix) following them; sets up the exchanges of fixed particles.
   ParticleSet distribute(const ParticleSet& all, Positions& reference) {
     std::vector<int> owned, ghosts;
+    std::vector<Index> owned_cells, ghost_cells;
     Index k{};
     for (int p = 0; p < all.size(); ++p) {
       if (!sub_.locate(all.position.col(p), k)) throw_outside_grid(all, p);
-      if (sub_.owns(k))
+      if (sub_.owns(k)) {
         owned.push_back(p);
-      else if (sub_.holds(k))
+        owned_cells.push_back(k);
+      } else if (sub_.holds(k)) {
         ghosts.push_back(p);
+        ghost_cells.push_back(k);
+      }
     }
     owned_ = static_cast<int>(owned.size());
     std::vector<int> order = owned;
     order.insert(order.end(), ghosts.begin(), ghosts.end());
+    std::vector<Index>& cells = owned_cells;  // of the local particles, in their order
+    cells.insert(cells.end(), ghost_cells.begin(), ghost_cells.end());
     global_.assign(order.begin(), order.end());
     ParticleSet local = all.select(order);
-    if (reference.cols() > 0) reference = select_columns(reference, order);
+    if (reference.cols() > 0) reference = Positions(reference(Eigen::all, order));
     // Fixed particles: what goes to and comes from each partner, in the serial order both sides
     // enumerate.
     const auto& partners = sub_.partners();
     send_.assign(partners.size(), {});
     receive_.assign(partners.size(), {});
     for (int i = 0; i < local.size(); ++i) {
-      sub_.locate(local.position.col(i), k);
+      k = cells[i];
       for (std::size_t j = 0; j < partners.size(); ++j) {
         if (i < owned_ && sub_.partner_holds(static_cast<int>(j), k)) send_[j].push_back(i);
         if (i >= owned_ && sub_.owner(k) == partners[j]) receive_[j].push_back(i);
@@ -238,12 +244,6 @@ class Halo {
     for (int c = 0; c < NComp; ++c) p.state(c, i) = r[kState + c];
     if (reference.cols() > 0)
       for (int l = 0; l < Dim; ++l) reference(l, i) = r[kReference + l];
-  }
-  static Positions select_columns(const Positions& m, const std::vector<int>& order) {
-    Positions out(Dim, static_cast<Eigen::Index>(order.size()));
-    for (std::size_t i = 0; i < order.size(); ++i)
-      out.col(static_cast<Eigen::Index>(i)) = m.col(order[i]);
-    return out;
   }
 
   Communicator& comm_;
