@@ -72,7 +72,7 @@ bool has_loads(const Grid<Dim>& grid, const Boundaries<Dim>& boundaries) {
 }  // namespace
 
 StepperOptions stepper_options(const scene::Scene& scene) {
-  return {scene.time.integrator, scene.flux, scene.fill_correction};
+  return {scene.time.integrator, scene.flux, scene.pseudo_stiffness};
 }
 
 nlohmann::json RunSummary::to_json() const {
@@ -135,7 +135,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
     time_control_.emplace(scene_);
     dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
     if (!time_control_->automatic()) warn_if_above_admissible();
-    if (!scene_.fill_correction) warn_if_overfull_cell(0, 0.0);
+    if (scene_.pseudo_stiffness == PseudoStiffness::particles) warn_if_overfull_cell(0, 0.0);
     if (dim > 1 && scene_.flux == FluxScheme::ctu && scene_.time.integrator == TimeScheme::rk2)
       warnings_.push_back(
           "flux \"ctu\" with integrator \"rk2\": CTU's transverse corrections are a one-step "
@@ -225,11 +225,11 @@ void Simulation<Physics>::warn_if_above_admissible() {
   warnings_.push_back(s.str());
 }
 
-// A cell whose particles carry more than rho times its volume (moving particles piling up) breaks
-// the scheme's consistency: the pseudo-stiffness term scales with the cell's mass, the face fluxes
-// do not, so a constant state changes at a rate (fill - 1) F / (rho h) there, however small dt is.
-// No time step restores monotonicity then; the run says so once, naming where it began (unless
-// the scene asks for the fill correction, which removes the cause).
+// With the paper's pseudo-stiffness, a cell whose particles carry more than rho times its volume
+// (moving particles piling up) breaks the scheme's consistency: the volume term scales with the
+// cell's mass, the face fluxes do not, so a constant state changes at a rate (fill - 1) F / (rho h)
+// there, however small dt is. No time step restores monotonicity then; the run says so once,
+// naming where it began (the consistent pseudo-stiffness, the default, removes the cause).
 template <class Physics>
 void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
   // The rebuild found the first over-full cell (no pass over the cells here); over ranks, the
@@ -257,8 +257,8 @@ void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
   s << format_step(step, t) << ": cell " << static_cast<long>(cell) << " holds "
     << std::setprecision(6) << fill
     << " times a full cell's mass; the operators do not preserve constant states in an "
-       "over-full cell, so new extrema can appear whatever the time step (\"fill_correction\": "
-       "true restores them)";
+       "over-full cell, so new extrema can appear whatever the time step (\"pseudo_stiffness\": "
+       "\"consistent\" restores them)";
   warnings_.push_back(s.str());
   overfull_warned_ = true;
 }
@@ -287,7 +287,7 @@ void Simulation<Physics>::step(double dt) {
         particles.position += dt * particles.state.template bottomRows<dim>();
         if (halo_) halo_->migrate(particles, reference_position_);
         stepper_->rebuild(particles, problem_.materials);
-        if (!overfull_warned_ && !scene_.fill_correction)
+        if (!overfull_warned_ && scene_.pseudo_stiffness == PseudoStiffness::particles)
           warn_if_overfull_cell(steps_ + 1, time_ + dt);
         if (time_control_->automatic()) {
           dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), particles);

@@ -60,11 +60,11 @@ SearchResult search_torus(L2Criterion& l2, const SearchOptions& options, L2Margi
     // Rounded up: the full margin must pass with a tenth of the tolerance there, else C* is the
     // value rounded down, which must pass with the tolerance.
     const bool rounded_up = s.courant > s.rounded_down;
-    L2Margin m = l2.margin(s.courant, rounded_up ? 0.1 * tolerance : tolerance);
+    L2Margin m = l2.checked_margin(s.courant, rounded_up ? 0.1 * tolerance : tolerance);
     ++evaluations;
     if (rounded_up && m.value > 0.1 * tolerance && m.value <= tolerance) {
       s.courant = s.rounded_down;
-      m = l2.margin(s.courant, tolerance);
+      m = l2.checked_margin(s.courant, tolerance);
       ++evaluations;
     }
     if (m.value <= (s.courant > s.rounded_down ? 0.1 : 1.0) * tolerance) {
@@ -81,9 +81,9 @@ SearchResult search_torus(L2Criterion& l2, const SearchOptions& options, L2Margi
   }
   // Not settled by a few probes: the full margin everywhere.
   SearchResult s =
-      search_admissible_courant([&](double c) { return l2.margin(c, tolerance).value; }, options,
-                                [&](double c) { return l2.margin(c).value; });
-  critical = l2.margin(s.failing_courant);
+      search_admissible_courant([&](double c) { return l2.checked_margin(c, tolerance).value; },
+                                options, [&](double c) { return l2.checked_margin(c).value; });
+  critical = l2.checked_margin(s.failing_courant);
   s.evaluations += evaluations;
   return s;
 }
@@ -148,6 +148,61 @@ CourantResult admissible_courant(const OneStepMap& map, Criterion criterion,
   r.failing_courant = s.failing_courant;
   r.evaluations = s.evaluations;
   return r;
+}
+
+BudgetedCourant budgeted_courant(const OneStepMap& map, const CourantResult& strict,
+                                 const GrowthBudget& budget) {
+  BudgetedCourant r;
+  r.courant = r.strict = strict.courant;
+  r.bounded = strict.bounded;
+  if (!strict.bounded) return r;
+  L2Criterion l2(map);
+  const auto over = [&](double c) {
+    ++r.evaluations;
+    const L2Growth g = l2.growth(c);
+    return std::pair{g.value - budget.allowance(c), g.value};
+  };
+  // Just above the L2 limit (a thousandth of it): a strong instability is not budgeted.
+  const double above = strict.courant * (1 + 1e-3);
+  if (over(above).first > 0.0) {
+    r.growth = std::max(0.0, l2.growth(r.courant).value);
+    return r;
+  }
+  // Scan upward from the L2 limit (the scan's step: what fails between two points is not seen,
+  // as for the L2 search), then bisect the first transition to a relative 1e-4.
+  const SearchOptions options = default_search_options(Criterion::l2);
+  const double step = map.setting.dim > 1 ? kL2ScanStep2D : options.scan_step;
+  double lo = above, hi = 0.0;
+  for (double c = lo + step;; c += step) {
+    c = std::min(c, options.max_courant);
+    if (over(c).first > 0.0) {
+      hi = c;
+      break;
+    }
+    lo = c;
+    if (c >= options.max_courant) {
+      r.courant = lo;
+      r.bounded = false;
+      r.extended = true;
+      r.growth = std::max(0.0, l2.growth(lo).value);
+      return r;
+    }
+  }
+  while (hi - lo > 1e-4 * lo) {
+    const double mid = 0.5 * (lo + hi);
+    (over(mid).first > 0.0 ? hi : lo) = mid;
+  }
+  r.courant = lo;
+  r.extended = true;
+  r.growth = std::max(0.0, over(lo).second);
+  return r;
+}
+
+BudgetedCourant budgeted_courant(const CellLayout& layout, const AnalysisSetting& setting,
+                                 const GrowthBudget& budget) {
+  const OneStepMap map = build_one_step_map(layout, setting);
+  return budgeted_courant(
+      map, admissible_courant(map, Criterion::l2, default_search_options(Criterion::l2)), budget);
 }
 
 CourantResult admissible_courant(const CellLayout& layout, TimeScheme scheme, Criterion criterion,

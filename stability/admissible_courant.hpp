@@ -7,6 +7,8 @@
 #include "stability/one_step_map.hpp"
 #include "stability/options.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace dgmpm::stability {
@@ -22,6 +24,40 @@ struct CourantResult {
   int limiting_particle = -1;   // monotone: index into the layout's positions
   int evaluations = 0;          // criterion evaluations of the search
 };
+
+// A growth budget (docs/method.md, "The growth budget"): the largest time step such that no
+// Fourier mode of the layout's symbol grows by more than `factor` over the run. Per step, the
+// growth max_theta rho - 1 may be ln(factor) / N, N the run's steps: `horizon` of them, or, with
+// `crossings`, horizon / C (horizon counts the times the fastest wave crosses a cell, the steps
+// at Courant 1). Never more than kGrowthCap per step: strong instabilities are not budgeted.
+inline constexpr double kGrowthCap = 1e-4;
+struct GrowthBudget {
+  double factor = 1.1;
+  double horizon = 1000;
+  bool crossings = false;
+  // Growth per step allowed at Courant number C.
+  double allowance(double courant) const {
+    const double steps = crossings ? horizon / courant : horizon;
+    return std::min(kGrowthCap, std::log(factor) / steps);
+  }
+};
+
+struct BudgetedCourant {
+  double courant = 0.0;   // the largest C such that every C' in (0, C] passes L2 or the budget
+  double strict = 0.0;    // the L2 criterion's C*
+  double growth = 0.0;    // max rho - 1 at `courant` (<= the allowance there)
+  bool bounded = true;    // false: nothing failed up to the search's maximum
+  bool extended = false;  // above the L2 limit: the layout is weakly unstable
+  int evaluations = 0;    // growth evaluations
+};
+
+// The budgeted Courant number from the L2 result `strict` of the same map. Above the L2 limit a C
+// passes when its growth is within the budget; a layout whose growth just above the limit
+// already exceeds the allowance (a strong instability) keeps the L2 limit.
+BudgetedCourant budgeted_courant(const OneStepMap& map, const CourantResult& strict,
+                                 const GrowthBudget& budget);
+BudgetedCourant budgeted_courant(const CellLayout& layout, const AnalysisSetting& setting,
+                                 const GrowthBudget& budget);
 
 // Scan step, tolerance and margin tolerance of each criterion.
 SearchOptions default_search_options(Criterion criterion);

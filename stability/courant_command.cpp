@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -27,8 +28,10 @@ struct CourantOptions {
   std::string positions, masses;  // comma separated, split here: empty entries are refused
   std::vector<double> speeds;
   std::string time = "euler", criterion = "l2", model = "elastic", flux = "dcu";
+  std::string pseudo_stiffness = "consistent";
   int dim = 1;
   double poisson = 0.3, aspect = 1.0;
+  double budget = 1.1, steps = 0;  // the growth budget: steps > 0 asks for it
   bool json = false;
   int map = 0;
   CourantAnalysis analysis = CourantAnalysis::all;
@@ -128,7 +131,8 @@ void add_2d_setting(nlohmann::json& j, const AnalysisSetting& setting) {
 }
 
 void print_result(const CellLayout& layout, const AnalysisSetting& setting, Criterion criterion,
-                  const CourantResult& r, bool json, std::ostream& out) {
+                  const CourantResult& r, const std::optional<BudgetedCourant>& b,
+                  const GrowthBudget& budget, bool json, std::ostream& out) {
   if (json) {
     nlohmann::json positions = nlohmann::json::array();
     for (int k = 0; k < layout.size(); ++k) {
@@ -157,6 +161,10 @@ void print_result(const CellLayout& layout, const AnalysisSetting& setting, Crit
         j["limiting_particle"] = r.limiting_particle;
       }
     }
+    if (b)
+      j["budgeted"] = {{"courant", b->courant},   {"factor", budget.factor},
+                       {"steps", budget.horizon}, {"growth_per_step", b->growth},
+                       {"bounded", b->bounded},   {"weakly_unstable", b->extended}};
     out << j.dump() << '\n';
     return;
   }
@@ -189,6 +197,17 @@ void print_result(const CellLayout& layout, const AnalysisSetting& setting, Crit
            << "), wave to " << r.direction;
   }
   out << line.str() << '\n';
+  if (b) {
+    std::ostringstream more;
+    more << std::fixed << std::setprecision(6)
+         << "budgeted Courant number C = " << (b->bounded ? "" : ">= ") << b->courant
+         << " (no mode grows by more than " << std::defaultfloat << budget.factor << " over "
+         << budget.horizon << " steps: "
+         << "growth per step at most " << budget.allowance(b->courant) << "; "
+         << (b->extended ? "weakly unstable above C*, growth " : "C* kept, growth ") << b->growth
+         << " per step there)";
+    out << more.str() << '\n';
+  }
 }
 
 // A map as CSV (a first line saying what was analysed, then a header) or as one JSON object:
@@ -259,7 +278,8 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
     if (!o.scene.empty()) {
       refuse_given(o,
                    {"--positions", "--masses", "--time", "--criterion", "--model", "--map", "--dim",
-                    "--flux", "--speeds", "--poisson", "--aspect"},
+                    "--flux", "--speeds", "--poisson", "--aspect", "--pseudo-stiffness", "--budget",
+                    "--steps"},
                    "to --scene: the scene's own particles, integrator, flux and materials are "
                    "analysed (L2 criterion)");
       if (!scene_analysis()) throw std::invalid_argument("--scene is not available in this build");
@@ -270,6 +290,8 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
     setting.dim = o.dim;
     setting.time = parse_time_scheme(o.time);
     setting.model = parse_model(o.model);
+    setting.pseudo_stiffness = o.pseudo_stiffness == "particles" ? PseudoStiffness::particles
+                                                                 : PseudoStiffness::consistent;
     const Criterion criterion = parse_criterion(o.criterion);
     if (o.dim == 1) {
       refuse_given(o, {"--flux", "--speeds", "--poisson", "--aspect"},
@@ -324,8 +346,26 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
     validate(layout);
     if (o.analysis == CourantAnalysis::none || (o.analysis == CourantAnalysis::quick && o.dim > 1))
       return 0;
-    print_result(layout, setting, criterion, admissible_courant(layout, setting, criterion), o.json,
-                 out);
+    GrowthBudget budget;
+    std::optional<BudgetedCourant> budgeted;
+    if (o.has("--budget") && !o.has("--steps"))
+      throw std::invalid_argument("--budget needs --steps N (the run's number of steps)");
+    const OneStepMap map = build_one_step_map(layout, setting);
+    if (criterion == Criterion::monotone && setting.dim > 1 && setting.model == Model::elastic)
+      throw std::invalid_argument(
+          "the monotone criterion needs scalar waves: the 2D elastic system does not split into "
+          "them (use --criterion l2, or --model advection)");
+    const CourantResult r = admissible_courant(map, criterion, default_search_options(criterion));
+    if (o.has("--steps")) {
+      if (criterion != Criterion::l2)
+        throw std::invalid_argument("--steps asks for the growth budget, an L2 criterion");
+      if (!(o.steps >= 1 && o.budget > 1))
+        throw std::invalid_argument("--steps takes a number >= 1 and --budget a factor > 1");
+      budget.factor = o.budget;
+      budget.horizon = o.steps;
+      budgeted = budgeted_courant(map, r, budget);
+    }
+    print_result(layout, setting, criterion, r, budgeted, budget, o.json, out);
     return 0;
   } catch (const std::exception& e) {
     err << "dgmpm courant: error: " << e.what() << '\n';
@@ -371,6 +411,18 @@ void add_courant_command(CLI::App& app, std::ostream& out, std::ostream& err,
            ->capture_default_str());
   keep(sub->add_option("--flux", options->flux, "2D edge fluxes: dcu or ctu")
            ->check(CLI::IsMember({"dcu", "ctu"}))
+           ->capture_default_str());
+  keep(sub->add_option("--pseudo-stiffness", options->pseudo_stiffness,
+                       "The volume term's pseudo-stiffness: consistent (preserves constant states "
+                       "in every cell) or particles (the paper's sum over particles); they differ "
+                       "only for 2D layouts whose mass is not centred along an axis")
+           ->check(CLI::IsMember({"consistent", "particles"}))
+           ->capture_default_str());
+  keep(sub->add_option("--steps", options->steps,
+                       "Also the budgeted Courant number: the largest C at which no mode grows by "
+                       "more than --budget over this many steps (L2; weakly unstable layouts)"));
+  keep(sub->add_option("--budget", options->budget,
+                       "The growth budget's factor: the most a mode may grow over --steps steps")
            ->capture_default_str());
   keep(sub->add_option("--criterion", options->criterion,
                        "l2 (von Neumann: spectral radius of G(theta) <= 1) or monotone (sum of "

@@ -76,12 +76,23 @@ struct TorusSymmetry {
 TorusSymmetry detect_torus_symmetry(const StencilFamily& family, const CellLayout& layout,
                                     double round_off);
 
+struct L2Growth {
+  double value = 0.0;  // max rho - 1
+  double theta = 0.0, theta_y = 0.0;
+  int family = 0;
+};
+
 class L2Criterion {
  public:
   explicit L2Criterion(const OneStepMap& map);
   // stop_above (2D): a caller that only needs to know whether the margin exceeds it may get, when
   // it does, a value above it that is not the maximum (cheaper: refinements are skipped).
   L2Margin margin(double courant, double stop_above = std::numeric_limits<double>::infinity());
+  // The margin, and in 2D also at the maximum of a growth search near the neutral lines and the
+  // origin (growth(C, false)), which the margin's scan and slopes can miss between their points:
+  // what a search accepts C* with.
+  L2Margin checked_margin(double courant,
+                          double stop_above = std::numeric_limits<double>::infinity());
   // 2D: the margin on a 3 x 4 scan of the half torus (spacing pi / 2) and 4 rays, without slopes
   // (what the search scans C with; 1D: margin).
   L2Margin coarse_margin(double courant,
@@ -92,6 +103,10 @@ class L2Criterion {
   L2Margin sharpen(double courant, const L2Margin& probe);
   // max over families of rho(G(theta)) at C.
   double spectral_radius(double courant, double theta, double theta_y = 0.0);
+  // The growth per step at C: the largest rho(G(theta)) - 1 over theta and the families, and where
+  // (what a growth budget limits; see growth.cpp). Without `uniform`, only near the neutral lines
+  // and the origin (2D), what the margin's own scan does not reach.
+  L2Growth growth(double courant, bool uniform = true);
   const std::vector<TorusSymmetry>& symmetries() const { return symmetries_; }
 
  private:

@@ -191,7 +191,7 @@ BOOST_AUTO_TEST_CASE(defaults) {
   BOOST_TEST((s.time.criterion == Criterion::l2));
   BOOST_TEST(s.time.safety == 1.0);
   BOOST_TEST(!s.particles_move);
-  BOOST_TEST(!s.fill_correction);
+  BOOST_TEST((s.pseudo_stiffness == dgmpm::PseudoStiffness::consistent));
   BOOST_TEST(!s.exact.has_value());
   BOOST_TEST(s.output.directory.empty());
   BOOST_TEST(s.output.times == std::vector<double>{1.0});
@@ -325,12 +325,16 @@ BOOST_AUTO_TEST_CASE(refuses_wrong_types) {
   doc["particles_move"] = 1;
   check_refused(doc, {"particles_move: value 1 has the wrong type"});
   doc = base();
-  doc["fill_correction"] = "yes";
-  check_refused(doc, {"fill_correction: value \"yes\" has the wrong type"});
+  doc["fill_correction"] = true;
+  check_refused(doc, {"fill_correction: value true is no longer read",
+                      "\"pseudo_stiffness\": \"consistent\" (the default)"});
+  doc = base();
+  doc["pseudo_stiffness"] = "scaled";
+  check_refused(doc, {"pseudo_stiffness: value \"scaled\"", "consistent, particles"});
   doc = base();
   doc["method"] = "mpm-usl";
-  doc["fill_correction"] = true;
-  check_refused(doc, {"fill_correction: value true is a DGMPM option", "false with MPM methods"});
+  doc["pseudo_stiffness"] = "particles";
+  check_refused(doc, {"pseudo_stiffness: value \"particles\" is a DGMPM option"});
   doc = base();
   doc["time"]["end"] = "6e-4";
   check_refused(doc, {"time.end: value \"6e-4\" has the wrong type", "a number > 0"});

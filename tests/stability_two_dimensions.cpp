@@ -39,6 +39,12 @@ AnalysisSetting elastic(double nu, FluxScheme flux, TimeScheme time) {
   return s;
 }
 
+// The same with the paper's pseudo-stiffness (sum over particles, not made consistent).
+AnalysisSetting paper(AnalysisSetting s) {
+  s.pseudo_stiffness = PseudoStiffness::particles;
+  return s;
+}
+
 CellLayout points(std::vector<double> xy, std::vector<double> masses = {}) {
   return CellLayout{std::move(xy), std::move(masses), 2};
 }
@@ -101,9 +107,13 @@ BOOST_AUTO_TEST_CASE(exact_limits_come_back_exact) {
 // positions. The monotone criterion needs a single row of particles: with two rows, the map
 // mixes them with different weights in its identity and operator parts, and its row sums of
 // |D| differ from the 1D ones. A single row off the cell's y centre gives the 1D value with
-// Euler but not with RK2: its top and bottom nodes carry different masses, the first stage
-// leaves them different, and the second stage's edge average mixes them: negative weights of
-// order C^2 where the first-order map has none, so RK2 is not monotone there at any C.
+// Euler; with RK2 under the consistent pseudo-stiffness, a little below it (the row's top and
+// bottom nodes carry different masses and each receives half an edge's flux, so they drift apart
+// in the first stage: 0.922 against 0.940). With the paper's pseudo-stiffness, RK2 is not
+// monotone there at any C: the row's top and bottom nodes carry different masses, the volume
+// term does not cancel the fluxes of a constant state at each of them, the first stage leaves
+// them different and the second stage's edge average mixes them: negative weights of order C^2
+// where the first-order map has none.
 BOOST_AUTO_TEST_CASE(one_dimensional_problems_give_the_1d_limits) {
   for (TimeScheme time : {euler, rk2})
     for (FluxScheme flux : {dcu, ctu}) {
@@ -120,12 +130,20 @@ BOOST_AUTO_TEST_CASE(one_dimensional_problems_give_the_1d_limits) {
         BOOST_TEST(limit(points({0.2, 0.5, 0.7, 0.5}), advection(1, 0, flux, time),
                          Criterion::monotone) == mono_1d,
                    boost::test_tools::tolerance(1e-6));
-        const double off_centre_row =
-            limit(points({0.2, 0.4, 0.7, 0.4}), advection(1, 0, flux, time), Criterion::monotone);
+        const CellLayout off_centre_row = points({0.2, 0.4, 0.7, 0.4});
+        const double row = limit(off_centre_row, advection(1, 0, flux, time), Criterion::monotone);
+        if (time == euler) {
+          BOOST_TEST(row == mono_1d, boost::test_tools::tolerance(1e-6));
+        } else {  // the face nodes still hold different masses: 0.922 against 0.940
+          BOOST_TEST(row <= mono_1d);
+          BOOST_TEST(row >= 0.97 * mono_1d);
+        }
+        const double paper_row =
+            limit(off_centre_row, paper(advection(1, 0, flux, time)), Criterion::monotone);
         if (time == euler)
-          BOOST_TEST(off_centre_row == mono_1d, boost::test_tools::tolerance(1e-6));
+          BOOST_TEST(paper_row == mono_1d, boost::test_tools::tolerance(1e-6));
         else
-          BOOST_TEST(off_centre_row < 1e-3);
+          BOOST_TEST(paper_row < 1e-3);
       }
     }
 }
@@ -154,13 +172,15 @@ BOOST_AUTO_TEST_CASE(symmetries) {
     }
 }
 
-// RK2 with one particle off the centre on both axes: rho = 1 along theta_x = 0 (the zero-speed
-// mode sigma_xx of waves along y), and off that line rho - 1 grows linearly with theta_x: a weak
-// instability at every Courant number. An independent computation gives rho - 1 = 7.6e-7 at
-// theta = (1e-3, pi / 2) and C = 0.4; the analysis finds it and puts C* near 0.
+// RK2 with one particle off the centre on both axes and the paper's pseudo-stiffness: rho = 1
+// along theta_x = 0 (the zero-speed mode sigma_xx of waves along y), and off that line rho - 1
+// grows linearly with theta_x: a weak instability at every Courant number. An independent
+// computation gives rho - 1 = 7.6e-7 at theta = (1e-3, pi / 2) and C = 0.4; the analysis finds
+// it and puts C* near 0. Its cause is the volume term's inconsistency: with the consistent
+// pseudo-stiffness (the default) the same particle is stable up to C = 0.999.
 BOOST_AUTO_TEST_CASE(rk2_with_an_off_centre_particle_has_a_weak_long_wave_instability) {
   const CellLayout off = points({0.65, 0.4});
-  const OneStepMap map = build_one_step_map(off, elastic(0.3, dcu, rk2));
+  const OneStepMap map = build_one_step_map(off, paper(elastic(0.3, dcu, rk2)));
   L2Criterion l2(map);
   BOOST_TEST(l2.spectral_radius(0.4, 1e-3, std::numbers::pi / 2) - 1 == 7.58e-7,
              boost::test_tools::tolerance(0.01));
@@ -176,13 +196,17 @@ BOOST_AUTO_TEST_CASE(rk2_with_an_off_centre_particle_has_a_weak_long_wave_instab
   };
   BOOST_TEST(slope(0.1) / 1e-3 == 0.016, boost::test_tools::tolerance(0.1));
   BOOST_TEST(slope(0.2) / slope(0.1) == 8.0, boost::test_tools::tolerance(0.1));
-  const CourantResult r = admissible_courant(off, elastic(0.3, dcu, rk2), Criterion::l2);
+  const CourantResult r = admissible_courant(off, paper(elastic(0.3, dcu, rk2)), Criterion::l2);
   BOOST_TEST(r.courant < 0.05);
   BOOST_TEST(std::abs(r.critical_theta_y) == std::numbers::pi / 2,
              boost::test_tools::tolerance(0.1));
   // Euler, and RK2 with the particle centred on one axis, have no such growth.
-  BOOST_TEST(limit(off, elastic(0.3, ctu, euler)) > 0.5);
-  BOOST_TEST(limit(points({0.5, 0.3}), elastic(0.3, dcu, rk2)) > 0.5);
+  BOOST_TEST(limit(off, paper(elastic(0.3, ctu, euler))) > 0.5);
+  BOOST_TEST(limit(points({0.5, 0.3}), paper(elastic(0.3, dcu, rk2))) > 0.5);
+  // The consistent pseudo-stiffness: no growth at C = 0.9, and the limit near 1.
+  L2Criterion consistent(build_one_step_map(off, elastic(0.3, dcu, rk2)));
+  BOOST_TEST(consistent.growth(0.9).value < 1e-13);
+  BOOST_TEST(limit(off, elastic(0.3, dcu, rk2)) > 0.99);
 }
 
 // The 2D elastic system does not split into scalar waves: the monotone criterion is refused.
@@ -347,11 +371,15 @@ BOOST_AUTO_TEST_CASE(search_agrees_with_full_margins_at_every_scanned_courant) {
     const char* name;
     CellLayout layout;
     AnalysisSetting setting;
+    double tolerance = 2e-5;
   };
   const Case cases[] = {
       {"elastic 1 centred dcu euler", points({0.5, 0.5}), elastic(0.3, dcu, euler)},
-      {"elastic 1 off-centre dcu rk2 (weak long waves)", points({0.65, 0.4}),
-       elastic(0.3, dcu, rk2)},
+      {"elastic 1 off-centre dcu rk2, paper's (weak long waves)", points({0.65, 0.4}),
+       paper(elastic(0.3, dcu, rk2))},
+      // C* is where a weak growth, found by the growth search at a point that moves with C,
+      // crosses the tolerance: the two brackets close 8e-5 apart.
+      {"elastic 1 off-centre dcu rk2", points({0.65, 0.4}), elastic(0.3, dcu, rk2), 2e-4},
       {"elastic 1 off-axis ctu rk2", points({0.3, 0.7}), elastic(0.45, ctu, rk2)},
       {"elastic 2 unequal masses dcu euler", points({0.2, 0.3, 0.7, 0.6}, {1, 3}),
        elastic(0.3, dcu, euler)},
@@ -370,15 +398,17 @@ BOOST_AUTO_TEST_CASE(search_agrees_with_full_margins_at_every_scanned_courant) {
       options.scan_step = kL2ScanStep2D;
       L2Criterion l2(map);
       const SearchResult full = search_admissible_courant(
-          [&](double courant) { return l2.margin(courant, options.margin_tolerance).value; },
-          options, [&](double courant) { return l2.margin(courant).value; });
+          [&](double courant) {
+            return l2.checked_margin(courant, options.margin_tolerance).value;
+          },
+          options, [&](double courant) { return l2.checked_margin(courant).value; });
       const CourantResult search = admissible_courant(map, Criterion::l2, options);
       BOOST_TEST_MESSAGE(c.name << ": full margins " << full.courant << " (" << full.evaluations
                                 << " margins), search " << search.courant << " ("
                                 << search.evaluations << ")");
-      BOOST_TEST(search.courant == full.courant, boost::test_tools::tolerance(2e-5));
+      BOOST_TEST(search.courant == full.courant, boost::test_tools::tolerance(c.tolerance));
       BOOST_TEST(search.failing_courant > search.courant);
-      BOOST_TEST(l2.margin(search.courant).value <= options.margin_tolerance);
+      BOOST_TEST(l2.checked_margin(search.courant).value <= options.margin_tolerance);
     }
   }
 }

@@ -31,6 +31,18 @@ template <int Dim, int NComp>
   throw ParticleOutsideGrid(particles.id[p], s.str());
 }
 
+// The volume term's pseudo-stiffness (docs/method.md, "Discretisation"). `particles`: the paper's
+// K^l_ij = sum_p m_p dS_i/dx_l(x_p) S_j(x_p). `consistent` (the default): the same plus, in a cell
+// where it does not preserve constant states (part-full or over-full cells, and in 2D particles
+// whose mass is not centred along the other axis), the rank-one term (t^l - K^l 1) u^T, with t^l
+// the exact rho int dS_i/dx_l dV and u the nodes' shares of the cell's mass: constant states are
+// then preserved at every node and momentum is still conserved (the columns still sum to zero).
+enum class PseudoStiffness { consistent, particles };
+
+inline const char* to_string(PseudoStiffness k) {
+  return k == PseudoStiffness::consistent ? "consistent" : "particles";
+}
+
 template <class Physics>
 class Discretisation {
  public:
@@ -47,13 +59,14 @@ class Discretisation {
   static constexpr int kThreaded = 4096;
   static constexpr double overfull_tolerance = 1e-6;  // a fill above 1 + this is over-full
 
-  // Fill correction (off by default: method.md's pseudo-stiffness). A cell whose particles carry
-  // m_c != rho V (moving particles piling up, a body ending inside the cell) has a volume term
-  // that scales with m_c while its face fluxes do not, so constant states are not preserved there
-  // (tests/lib_consistency.cpp). With the correction each cell's K is scaled by rho V / m_c:
-  // K F^s then integrates over the cell's volume, constant states are preserved, and momentum is
-  // still conserved (the columns of K^T still sum to zero). Full cells are unchanged.
-  void set_fill_correction(bool on) { fill_correction_ = on; }
+  // A cell whose particles carry m_c != rho V (moving particles piling up, a body ending inside
+  // the cell), or in 2D whose particles' mass is not centred along an axis, has a paper's volume
+  // term that does not cancel its face fluxes on a constant state (tests/lib_consistency.cpp).
+  // Its RK2 stage values then drift at nodes holding little mass, by the residual over that mass:
+  // the cause of the blow-ups of moving particles near faces and of the weak long-wave growth of
+  // off-centre particles under RK2 (docs/method.md, "Stability"). The consistent form removes it.
+  void set_pseudo_stiffness(PseudoStiffness k) { pseudo_stiffness_ = k; }
+  PseudoStiffness pseudo_stiffness() const { return pseudo_stiffness_; }
 
   // Rebuilds from the particles' current positions. Storage is reused: no allocation once the
   // sizes are reached. Incremental: when no particle changed cell since the last build (moving
@@ -97,7 +110,6 @@ class Discretisation {
     node_mass_.setZero(grid.num_nodes());
     inv_mass_.setZero(grid.num_nodes());
     source_corner_.assign(grid.num_nodes(), -1);
-    if (fill_correction_) stiffness_scale_.resize(nc);
     cell_size_ = grid.cell_size;
     cell_material_.resize(nc);
     table_.assign(materials.begin(), materials.end());  // this build's blends follow
@@ -123,7 +135,7 @@ class Discretisation {
       if (!occupied_[c]) continue;
       massless = set_node_sources(c, cell_mass) || massless;
       cell_material_[c] = pure;
-      if (pure != kMixed) finish_cell(c, cell_mass, first_overfull);
+      if (pure != kMixed) finish_cell(c, first_overfull);
     }
     // Mixed cells, in cell order: their blends join the table.
     for (int c = 0; c < nc; ++c) {
@@ -146,7 +158,7 @@ class Discretisation {
       }
       cell_material_[c] = static_cast<int>(table_.size());
       table_.push_back(blended);
-      finish_cell(c, cell_mass, first_overfull);
+      finish_cell(c, first_overfull);
     }
     has_massless_ = massless;
     first_overfull_ = first_overfull < nc ? first_overfull : -1;
@@ -183,20 +195,24 @@ class Discretisation {
     return table_[cell_material_[c]];
   }
   // Cell c's pseudo-stiffness matrices, one per axis: K^l = sum_p m_p grad_l S(x_p) S(x_p)^T
-  // (times rho V / m_c under the fill correction), `mass` the masses of the particles built from.
-  // Computed when asked from the cell's particles: a few products per particle, where storing
-  // them cost npc^2 doubles per cell and axis (256 bytes per cell in 2D).
+  // (made consistent where it is not: set_pseudo_stiffness), `mass` the masses of the particles
+  // built from. Computed when asked from the cell's particles: a few products per particle, where
+  // storing them cost npc^2 doubles per cell and axis (256 bytes per cell in 2D).
   std::array<Stiffness, dim> stiffness(int c, const Eigen::VectorXd& mass) const {
     std::array<Stiffness, dim> k;
     for (auto& kl : k) kl.setZero();
+    typename Shape::Values share = Shape::Values::Zero();
+    double cell = 0.0;
     for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
       const int p = entries_[e];
       const auto s = Shape::values(local_.col(p));
       const auto g = Shape::gradients(local_.col(p), cell_size_);
       for (int l = 0; l < dim; ++l) k[l] += mass[p] * g.row(l).transpose() * s.transpose();
+      share += mass[p] * s;
+      cell += mass[p];
     }
-    if (fill_correction_)
-      for (auto& kl : k) kl *= stiffness_scale_[c];
+    if (pseudo_stiffness_ == PseudoStiffness::consistent && cell > 0.0)
+      make_consistent(c, share / cell, k);
     return k;
   }
   double node_mass(int i) const {
@@ -274,12 +290,29 @@ class Discretisation {
     return massless;
   }
 
-  // The over-full check and the fill correction of an occupied cell whose material is set.
-  void finish_cell(int c, double cell_mass, int& first_overfull) {
+  // The over-full check of an occupied cell whose material is set.
+  void finish_cell(int c, int& first_overfull) const {
     if (overfull(c)) first_overfull = std::min(first_overfull, c);
-    if (fill_correction_)
-      stiffness_scale_[c] = Physics::density(cell_material(c)) * cell_volume_ / cell_mass;
   }
+
+  // K^l += (t^l - K^l 1) u^T where the rows of K^l do not sum to t^l, the exact
+  // rho int dS_i/dx_l dV = +-rho V / (h_l 2^(dim - 1)) (the sign of node i's side along l); u the
+  // nodes' shares of the cell's mass. Cells that preserve constant states already (full 1D cells,
+  // layouts centred along each axis) are left as they are, to the last bit.
+  void make_consistent(int c, const typename Shape::Values& share,
+                       std::array<Stiffness, dim>& k) const {
+    const double rho_v = Physics::density(cell_material(c)) * cell_volume_;
+    for (int l = 0; l < dim; ++l) {
+      const double exact = rho_v / (cell_size_[l] * (npc / 2));
+      typename Shape::Values defect;
+      for (int a = 0; a < npc; ++a) defect[a] = (((a >> l) & 1) ? exact : -exact);
+      defect -= k[l].rowwise().sum();
+      if (defect.cwiseAbs().maxCoeff() > kConsistentTolerance * exact)
+        k[l].noalias() += defect * share.transpose();
+    }
+  }
+  // Relative row-sum defect below which a cell counts as consistent (round-off of the sums).
+  static constexpr double kConsistentTolerance = 1e-12;
 
   static constexpr int kMixed = -2;  // cell_material_ of a mixed cell before its blend
 
@@ -288,13 +321,12 @@ class Discretisation {
   std::vector<int> cell_begin_, entries_;
   Eigen::VectorXd node_mass_, inv_mass_;
   std::vector<signed char> source_corner_;
-  std::vector<double> stiffness_scale_;  // rho V / m_c, under the fill correction only
   typename Grid<dim>::Vec cell_size_ = Grid<dim>::Vec::Ones();
   std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
   std::vector<int> cell_material_;  // index into table_
   std::vector<char> occupied_;
   bool has_massless_ = false;
-  bool fill_correction_ = false;
+  PseudoStiffness pseudo_stiffness_ = PseudoStiffness::consistent;
   double cell_volume_ = 0.0;
   int first_overfull_ = -1;
   long sorts_ = 0;

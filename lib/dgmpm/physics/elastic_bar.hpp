@@ -32,10 +32,17 @@ struct ElasticBar {
     double c_, z_, specific_modulus_;
   };
 
-  // Mass-weighted blend, for cells holding particles of several materials.
+  // The material of a cell holding particles of several materials (ma of a, mb of b): the density
+  // of their mass over their volume, and rho / E, the weight of the specific stress in the energy
+  // per unit mass, their mass-weighted mean. The cell's energy then counts each particle's
+  // compliance: for equal densities 1 / E is the volume-weighted mean (Reuss, the uniaxial-stress
+  // mixture). (A mass-weighted mean of E makes a soft particle beside stiff ones take the stiff
+  // stress rate: its energy sigma^2 / 2E then grows without bound.)
   static Material blend(const Material& a, double ma, const Material& b, double mb) {
     const double w = mb / (ma + mb);
-    return {(1 - w) * a.young + w * b.young, (1 - w) * a.density + w * b.density};
+    const double density = (ma + mb) / (ma / a.density + mb / b.density);
+    const double compliance = (1 - w) * a.density / a.young + w * b.density / b.young;  // rho / E
+    return {density / compliance, density};
   }
 
   static double max_wave_speed(const Material& m) { return m.wave_speed(); }

@@ -83,11 +83,22 @@ struct PlaneStrain {
            lambda_over_cp_ = 0;
   };
 
-  // Mass-weighted blend of the Lame moduli and density, for cells holding several materials.
+  // The material of a cell holding particles of several materials (ma of a, mb of b), as for the
+  // bar (elastic_bar.hpp): the density of their mass over their volume, and the in-plane
+  // compliance times rho (the weights of the specific stresses in the energy per unit mass) their
+  // mass-weighted mean. Plane-strain compliances [[s, t], [t, s]] (normal stresses) and 1 / mu
+  // (shear) with s - t = 1 / (2 mu) stay of that isotropic form when averaged.
   static Material blend(const Material& a, double ma, const Material& b, double mb) {
     const double w = mb / (ma + mb);
-    return Material::from_lame((1 - w) * a.lambda() + w * b.lambda(), (1 - w) * a.mu() + w * b.mu(),
-                               (1 - w) * a.density + w * b.density);
+    const double density = (ma + mb) / (ma / a.density + mb / b.density);
+    // rho s and rho t of each material: the inverse of [[lambda + 2 mu, lambda], [lambda, ...]].
+    const auto weighted = [](const Material& m) {
+      const double p = m.p_modulus(), l = m.lambda(), det = (p - l) * (p + l);
+      return Eigen::Vector2d(m.density * p / det, -m.density * l / det);
+    };
+    const Eigen::Vector2d st = ((1 - w) * weighted(a) + w * weighted(b)) / density;
+    const double det = (st[0] - st[1]) * (st[0] + st[1]);
+    return Material::from_lame(-st[1] / det, 0.5 / (st[0] - st[1]), density);
   }
   static double max_wave_speed(const Material& m) { return m.p_speed(); }
   static double density(const Material& m) { return m.density; }
