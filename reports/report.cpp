@@ -314,7 +314,7 @@ struct StiffOptions {
   double young_right = 2e11;
   double shift = 0;
   double safety = 1;
-  bool paper = false;  // the paper's pseudo-stiffness instead of the consistent one
+  bool paper = false;  // the founding paper's formulation instead of the consistent one
 };
 
 StiffCase stiff_case(const std::string& name, int cells_per_metre, nlohmann::json layout,
@@ -349,7 +349,7 @@ StiffCase stiff_case(const std::string& name, int cells_per_metre, nlohmann::jso
   scene["time"]["blow_up_check"] = false;
   if (courant.is_string()) scene["time"]["criterion"] = o.criterion;
   if (o.safety != 1) scene["time"]["safety"] = o.safety;
-  if (o.paper) scene["pseudo_stiffness"] = "particles";
+  if (o.paper) scene["formulation"] = "paper";
   if (o.young_right == young) scene["exact"] = "bar";
   return {name, scene, c / dx};
 }
@@ -390,7 +390,7 @@ std::vector<StiffCase> stiff_cases(bool quick) {
                  shifted),
       stiff_case("8 ppc, bar ends mid-cell (half-full end cells), RK2, safety 0.8", n, eight, "rk2",
                  "auto", shifted_safe),
-      stiff_case("8 ppc, bar ends mid-cell (half-full end cells), RK2, paper's pseudo-stiffness", n,
+      stiff_case("8 ppc, bar ends mid-cell (half-full end cells), RK2, paper's formulation", n,
                  eight, "rk2", "auto", shifted_paper),
       stiff_case("2 ppc regular, Euler, monotone criterion", n, two, "euler", "auto", monotone),
       stiff_case("bi-material, E ratio 100, 1 ppc, Euler", n, one, "euler", "auto", soft),
@@ -398,11 +398,11 @@ std::vector<StiffCase> stiff_cases(bool quick) {
       stiff_case("moving particles, 1 ppc, Euler", n, one, "euler", "auto", moving),
       stiff_case("moving particles, 1 ppc, Euler, monotone criterion", n, one, "euler", "auto",
                  moving_monotone),
-      stiff_case("moving particles, 1 ppc, Euler, monotone criterion, paper's pseudo-stiffness", n,
-                 one, "euler", "auto", moving_monotone_paper),
+      stiff_case("moving particles, 1 ppc, Euler, monotone criterion, paper's formulation", n, one,
+                 "euler", "auto", moving_monotone_paper),
       stiff_case("moving particles, 2 ppc, Euler", n, two, "euler", "auto", moving),
-      stiff_case("moving particles, 2 ppc, Euler, paper's pseudo-stiffness", n, two, "euler",
-                 "auto", moving_paper),
+      stiff_case("moving particles, 2 ppc, Euler, paper's formulation", n, two, "euler", "auto",
+                 moving_paper),
       stiff_case("contrast: 2 ppc, Euler, fixed C = 1 > C*", n, two, "euler", 1.0),
   };
 }
@@ -920,8 +920,8 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
           "norm of the stress against the exact solution (n/a for the bi-material bar, which "
           "has none here). The last row runs a fixed Courant number above the layout's C* for "
           "contrast. Half-full end cells take the small-cell rule (C* times the cell's fill). "
-          "Rows marked \"paper's pseudo-stiffness\" use the founding paper's volume term "
-          "(scene key `pseudo_stiffness`: `particles`) instead of the consistent one: a part-full "
+          "Rows marked \"paper's formulation\" use the founding paper's scheme "
+          "(scene key `formulation`: `paper`) instead of the consistent one: a part-full "
           "or over-full cell then does not preserve constant states, so the half-full ends "
           "radiate waves (with RK2 at safety 1 their start-up transient raises the energy) and "
           "moving particles piling up into a cell create new extrema whatever the time step "

@@ -48,7 +48,7 @@ print('|---|---|---|---|---|---|---|')
 for name, sc in cases.items():
     for label, method, integrator, time, *paper in runs:
         d = copy.deepcopy(sc); d['method'] = method
-        if paper: d['pseudo_stiffness'] = 'particles'
+        if paper: d['formulation'] = 'paper'
         d['time'] = {'end': sc['time']['end'], 'integrator': integrator, **time}
         with open(tmp, 'w') as f:
             json.dump(d, f)

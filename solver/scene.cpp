@@ -193,8 +193,8 @@ class Parser {
     s.source = source_;
     check_object(doc, "",
                  {"dimension", "method", "update", "grid", "materials", "bodies", "boundaries",
-                  "time", "particles_move", "fill_correction", "pseudo_stiffness", "flux",
-                  "plane_wave", "exact", "output"});
+                  "time", "particles_move", "fill_correction", "formulation", "flux", "plane_wave",
+                  "exact", "output"});
     s.dimension = parse_dimension(require(doc, "", "dimension", "1"));
     if (const json* m = find(doc, "method"))
       s.method =
@@ -217,14 +217,13 @@ class Parser {
       s.particles_move = boolean(*p, "particles_move");
     if (const json* f = find(doc, "fill_correction"))
       refuse("fill_correction", *f,
-             "is no longer read: \"pseudo_stiffness\": \"consistent\" (the default) preserves "
+             "is no longer read: \"formulation\": \"consistent\" (the default) preserves "
              "constant states in every cell, part-full and over-full ones included",
-             "no fill_correction key (\"pseudo_stiffness\": \"particles\" for the paper's form)");
-    if (const json* k = find(doc, "pseudo_stiffness")) {
+             "no fill_correction key (\"formulation\": \"paper\" for the paper's form)");
+    if (const json* k = find(doc, "formulation")) {
       if (s.method != Method::dgmpm)
-        refuse("pseudo_stiffness", *k, "is a DGMPM option", "pseudo_stiffness only with \"dgmpm\"");
-      s.pseudo_stiffness =
-          named(*k, "pseudo_stiffness", {PseudoStiffness::consistent, PseudoStiffness::particles});
+        refuse("formulation", *k, "is a DGMPM option", "formulation only with \"dgmpm\"");
+      s.formulation = named(*k, "formulation", {Formulation::consistent, Formulation::paper});
     }
     if (const json* f = find(doc, "flux")) {
       if (s.dimension == 1 || s.method != Method::dgmpm)

@@ -101,8 +101,8 @@ struct Scene {
   std::vector<BoundarySpec> boundaries[3][2];
   TimeSpec time;
   bool particles_move = false;
-  PseudoStiffness pseudo_stiffness = PseudoStiffness::consistent;  // DGMPM
-  std::optional<std::string> exact;                                // "bar" (1D), "plane_wave" (2D)
+  Formulation formulation = Formulation::consistent;  // DGMPM
+  std::optional<std::string> exact;                   // "bar" (1D), "plane_wave" (2D)
   // 2D: a smooth plane wave added to the bodies' initial state on a doubly periodic grid:
   // v = amplitude sin(k . x) times the polarisation (k for a P wave, k turned by +90 degrees for
   // an S wave), k = 2 pi (cycles_x / L_x, cycles_y / L_y), stress that of the travelling wave.

@@ -72,7 +72,7 @@ bool has_loads(const Grid<Dim>& grid, const Boundaries<Dim>& boundaries) {
 }  // namespace
 
 StepperOptions stepper_options(const scene::Scene& scene) {
-  return {scene.time.integrator, scene.flux, scene.pseudo_stiffness};
+  return {scene.time.integrator, scene.flux, scene.formulation};
 }
 
 nlohmann::json RunSummary::to_json() const {
@@ -135,7 +135,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
     time_control_.emplace(scene_);
     dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
     if (!time_control_->automatic()) warn_if_above_admissible();
-    if (scene_.pseudo_stiffness == PseudoStiffness::particles) warn_if_overfull_cell(0, 0.0);
+    if (scene_.formulation == Formulation::paper) warn_if_overfull_cell(0, 0.0);
     if (dim > 1 && scene_.flux == FluxScheme::ctu && scene_.time.integrator == TimeScheme::rk2)
       warnings_.push_back(
           "flux \"ctu\" with integrator \"rk2\": CTU's transverse corrections are a one-step "
@@ -257,7 +257,7 @@ void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
   s << format_step(step, t) << ": cell " << static_cast<long>(cell) << " holds "
     << std::setprecision(6) << fill
     << " times a full cell's mass; the operators do not preserve constant states in an "
-       "over-full cell, so new extrema can appear whatever the time step (\"pseudo_stiffness\": "
+       "over-full cell, so new extrema can appear whatever the time step (\"formulation\": "
        "\"consistent\" restores them)";
   warnings_.push_back(s.str());
   overfull_warned_ = true;
@@ -287,7 +287,7 @@ void Simulation<Physics>::step(double dt) {
         particles.position += dt * particles.state.template bottomRows<dim>();
         if (halo_) halo_->migrate(particles, reference_position_);
         stepper_->rebuild(particles, problem_.materials);
-        if (!overfull_warned_ && scene_.pseudo_stiffness == PseudoStiffness::particles)
+        if (!overfull_warned_ && scene_.formulation == Formulation::paper)
           warn_if_overfull_cell(steps_ + 1, time_ + dt);
         if (time_control_->automatic()) {
           dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), particles);

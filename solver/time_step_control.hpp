@@ -63,7 +63,7 @@ class TimeStepControl : public LayoutQuantisation {
     setting_.time = scene.time.integrator;
     setting_.flux = scene.flux;
     setting_.model = stability::Model::elastic;
-    setting_.pseudo_stiffness = scene.pseudo_stiffness;
+    setting_.formulation = scene.formulation;
     if (dim > 1) setting_.aspect = scene.grid.cell_size[0] / scene.grid.cell_size[1];
     if (automatic_ && dim > 1 && criterion_ == stability::Criterion::monotone)
       throw scene::SceneError(

@@ -28,7 +28,7 @@ struct CourantOptions {
   std::string positions, masses;  // comma separated, split here: empty entries are refused
   std::vector<double> speeds;
   std::string time = "euler", criterion = "l2", model = "elastic", flux = "dcu";
-  std::string pseudo_stiffness = "consistent";
+  std::string formulation = "consistent";
   int dim = 1;
   double poisson = 0.3, aspect = 1.0;
   double budget = 1.1, steps = 0;  // the growth budget: steps > 0 asks for it
@@ -278,7 +278,7 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
     if (!o.scene.empty()) {
       refuse_given(o,
                    {"--positions", "--masses", "--time", "--criterion", "--model", "--map", "--dim",
-                    "--flux", "--speeds", "--poisson", "--aspect", "--pseudo-stiffness", "--budget",
+                    "--flux", "--speeds", "--poisson", "--aspect", "--formulation", "--budget",
                     "--steps"},
                    "to --scene: the scene's own particles, integrator, flux and materials are "
                    "analysed (L2 criterion)");
@@ -290,8 +290,7 @@ int run(const CourantOptions& o, std::ostream& out, std::ostream& err) {
     setting.dim = o.dim;
     setting.time = parse_time_scheme(o.time);
     setting.model = parse_model(o.model);
-    setting.pseudo_stiffness = o.pseudo_stiffness == "particles" ? PseudoStiffness::particles
-                                                                 : PseudoStiffness::consistent;
+    setting.formulation = o.formulation == "paper" ? Formulation::paper : Formulation::consistent;
     const Criterion criterion = parse_criterion(o.criterion);
     if (o.dim == 1) {
       refuse_given(o, {"--flux", "--speeds", "--poisson", "--aspect"},
@@ -412,17 +411,12 @@ void add_courant_command(CLI::App& app, std::ostream& out, std::ostream& err,
   keep(sub->add_option("--flux", options->flux, "2D edge fluxes: dcu or ctu")
            ->check(CLI::IsMember({"dcu", "ctu"}))
            ->capture_default_str());
-  keep(sub->add_option("--pseudo-stiffness", options->pseudo_stiffness,
-                       "The volume term's pseudo-stiffness: consistent (preserves constant states "
-                       "in every cell) or particles (the paper's sum over particles); they differ "
-                       "only for 2D layouts whose mass is not centred along an axis")
-           ->check(CLI::IsMember({"consistent", "particles"}))
-           ->capture_default_str());
-  keep(sub->add_option("--steps", options->steps,
-                       "Also the budgeted Courant number: the largest C at which no mode grows by "
-                       "more than --budget over this many steps (L2; weakly unstable layouts)"));
-  keep(sub->add_option("--budget", options->budget,
-                       "The growth budget's factor: the most a mode may grow over --steps steps")
+  keep(sub->add_option("--formulation", options->formulation,
+                       "The scheme: consistent (constant states preserved in every cell, RK2's "
+                       "near-empty nodes damped) or paper (the founding paper's form); they differ "
+                       "for 2D layouts whose mass is not centred along an axis and, with RK2, for "
+                       "nodes holding less than a fifth of their cell's mass")
+           ->check(CLI::IsMember({"consistent", "paper"}))
            ->capture_default_str());
   keep(sub->add_option("--criterion", options->criterion,
                        "l2 (von Neumann: spectral radius of G(theta) <= 1) or monotone (sum of "

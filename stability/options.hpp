@@ -27,7 +27,7 @@ Model parse_model(const std::string&);
 int polynomial_degree(TimeScheme);
 
 using dgmpm::FluxScheme;
-using dgmpm::PseudoStiffness;
+using dgmpm::Formulation;
 
 // What the analysis steps: the model problem of a periodic grid of identical cells.
 // 1D: unit cells, unit wave speed (advection speed 1, waves to +x; elastic bar E = rho = 1).
@@ -42,10 +42,10 @@ struct AnalysisSetting {
   double poisson = 0.3;               // 2D elastic
   double speed_x = 1.0, speed_y = 0;  // 2D advection
   double aspect = 1.0;                // 2D: dx / dy
-  // The volume term's form (lib's discretisation.hpp); the consistent one differs from the
-  // paper's only where a cell does not preserve constant states: in the periodic model, 2D
-  // layouts whose mass is not centred along an axis.
-  PseudoStiffness pseudo_stiffness = PseudoStiffness::consistent;
+  // The scheme's formulation (lib's discretisation.hpp); in the periodic model the consistent one
+  // differs from the paper's for 2D layouts whose mass is not centred along an axis and, with RK2,
+  // layouts with a node holding less than a fifth of its cell's mass.
+  Formulation formulation = Formulation::consistent;
 };
 
 // Degree in C of the one-step map: 1 (Euler) or 2 (RK2), times 2 for CTU, whose operator holds

@@ -82,7 +82,7 @@ class PeriodicCells {
     particles_.state.setZero();
     materials_.push_back(unit_material<Physics>(setting));
     stepper_.emplace(grid_, boundaries_,
-                     StepperOptions{setting.time, setting.flux, setting.pseudo_stiffness});
+                     StepperOptions{setting.time, setting.flux, setting.formulation});
     stepper_->rebuild(particles_, materials_);
   }
   PeriodicCells(const PeriodicCells&) = delete;  // the stepper refers to the members

@@ -1,9 +1,9 @@
 // Consistency of lib's operators (docs/method.md, "Discretisation"): which configurations preserve
 // a constant state. With moving particles a cell can come to hold more than a full cell's mass;
-// with the paper's pseudo-stiffness its term grows with the cell's mass while the face fluxes do
+// with the paper's formulation its term grows with the cell's mass while the face fluxes do
 // not, so a constant state is no longer a steady solution there. The expected change is derived
 // here, by hand, from method.md's semi-discrete form: node L gets (1 - f) F, node R (f - 1) F, f
-// the cell's mass over rho h. The consistent pseudo-stiffness (the default) removes the change.
+// the cell's mass over rho h. The consistent formulation (the default) removes the change.
 #define BOOST_TEST_MODULE consistency
 #include <boost/test/unit_test.hpp>
 
@@ -28,14 +28,14 @@ struct Layout {
 };
 
 // One Euler step of lib's operators on a periodic bar of 6 cells.
-void euler_step(Particles<1, 2>& particles, PseudoStiffness form) {
+void euler_step(Particles<1, 2>& particles, Formulation form) {
   Grid<1> grid;
   grid.cell_size << h;
   grid.cells = {6};
   grid.periodic = {true};
   const std::vector<ElasticBar::Material> materials{{E, rho}};
   Discretisation<ElasticBar> disc;
-  disc.set_pseudo_stiffness(form);
+  disc.set_formulation(form);
   disc.build(grid, particles, materials);
   const Boundaries<1> boundaries{};
   const DGOperator<ElasticBar> op(grid, disc, boundaries);
@@ -59,7 +59,7 @@ void place(const std::vector<Layout>& layout, Particles<1, 2>& particles) {
 
 // A uniform state on `layout`, one Euler step; returns the states after it.
 Eigen::Matrix2Xd step_uniform_state(const std::vector<Layout>& layout, Particles<1, 2>& particles,
-                                    PseudoStiffness form) {
+                                    Formulation form) {
   place(layout, particles);
   euler_step(particles, form);
   return particles.state;
@@ -82,8 +82,8 @@ std::vector<Layout> one_per_cell_except_cell_2(double xi1, double xi2, double sh
 BOOST_AUTO_TEST_CASE(full_cells_preserve_a_constant_state_whatever_their_layout) {
   // Cell 2 holds two particles sharing one cell's mass: fill 1.
   Particles<1, 2> particles;
-  const auto q = step_uniform_state(one_per_cell_except_cell_2(0.1, 0.93, 0.5), particles,
-                                    PseudoStiffness::particles);
+  const auto q =
+      step_uniform_state(one_per_cell_except_cell_2(0.1, 0.93, 0.5), particles, Formulation::paper);
   for (int p = 0; p < particles.size(); ++p) {
     BOOST_TEST(q(0, p) * rho == sigma0, boost::test_tools::tolerance(1e-13));
     BOOST_TEST(q(1, p) == v0, boost::test_tools::tolerance(1e-13));
@@ -94,7 +94,7 @@ BOOST_AUTO_TEST_CASE(an_overfull_cell_changes_a_constant_state_at_a_rate_set_by_
   const double xi[2] = {0.25, 0.6}, fill = 2.0;  // two particles of a full cell's mass each
   Particles<1, 2> particles;
   const auto q = step_uniform_state(one_per_cell_except_cell_2(xi[0], xi[1], 1.0), particles,
-                                    PseudoStiffness::particles);
+                                    Formulation::paper);
   // docs/method.md, "Discretisation": m_i dq_i/dt = K F^s + Fhat; with a constant state every
   // Riemann problem returns it, Fhat = +-F, and K F^s = -+(m_cell / h) F^s = -+ f F. Physical flux
   // F = -(E v, sigma).
@@ -119,13 +119,13 @@ BOOST_AUTO_TEST_CASE(an_overfull_cell_changes_a_constant_state_at_a_rate_set_by_
   BOOST_TEST(in_cell_2 == 2);
 }
 
-BOOST_AUTO_TEST_CASE(the_consistent_pseudo_stiffness_preserves_constant_states_in_any_cell) {
+BOOST_AUTO_TEST_CASE(the_consistent_formulation_preserves_constant_states_in_any_cell) {
   // Over-full (2 cells' mass), part-full (a quarter) and full cells.
   for (double share : {1.0, 0.125, 0.5}) {
     BOOST_TEST_CONTEXT("fill " << 2 * share) {
       Particles<1, 2> particles;
       const auto q = step_uniform_state(one_per_cell_except_cell_2(0.25, 0.6, share), particles,
-                                        PseudoStiffness::consistent);
+                                        Formulation::consistent);
       for (int p = 0; p < particles.size(); ++p) {
         BOOST_TEST(q(0, p) * rho == sigma0, boost::test_tools::tolerance(1e-13));
         BOOST_TEST(q(1, p) == v0, boost::test_tools::tolerance(1e-13));
@@ -134,7 +134,7 @@ BOOST_AUTO_TEST_CASE(the_consistent_pseudo_stiffness_preserves_constant_states_i
   }
 }
 
-BOOST_AUTO_TEST_CASE(the_consistent_pseudo_stiffness_conserves_momentum) {
+BOOST_AUTO_TEST_CASE(the_consistent_formulation_conserves_momentum) {
   // A non-uniform state on the over-full layout: total momentum unchanged by a step (periodic).
   Particles<1, 2> particles;
   place(one_per_cell_except_cell_2(0.25, 0.6, 1.0), particles);
@@ -142,7 +142,7 @@ BOOST_AUTO_TEST_CASE(the_consistent_pseudo_stiffness_conserves_momentum) {
     particles.state.col(p) << std::sin(1.0 + p) / rho, std::cos(2.0 * p);
   const double before = particles.mass.dot(particles.state.row(1).transpose());
   const Eigen::Matrix2Xd initial = particles.state;
-  euler_step(particles, PseudoStiffness::consistent);
+  euler_step(particles, Formulation::consistent);
   const double after = particles.mass.dot(particles.state.row(1).transpose());
   BOOST_TEST(std::abs(after - before) <= 1e-13 * particles.mass.sum());
   BOOST_TEST((particles.state - initial).norm() > 1e-3 * initial.norm());  // a real step

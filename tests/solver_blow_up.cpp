@@ -105,7 +105,7 @@ BOOST_AUTO_TEST_CASE(stable_runs_pass) {
           doc["method"] = method;
           doc["time"]["courant"] = 0.5;
           doc.erase("flux");
-          doc.erase("pseudo_stiffness");
+          doc.erase("formulation");
           doc.erase("exact");
           doc.erase("plane_wave");
           doc.erase("particles_move");

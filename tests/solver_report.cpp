@@ -157,7 +157,7 @@ BOOST_AUTO_TEST_CASE(stiff_cases_are_tabulated) {
   BOOST_TEST(stiff.back().warning.find("is above the admissible") != std::string::npos);
   BOOST_TEST(r.markdown.find("| Courant number 1 is above the admissible 0.686141 |") !=
              std::string::npos);
-  // Moving 2 ppc particles pile up: with the paper's pseudo-stiffness the note names the first
+  // Moving 2 ppc particles pile up: with the paper's formulation the note names the first
   // over-full cell; the consistent one preserves constant states there and has no such note.
   for (const RunRow& row : stiff)
     if (row.label.find("moving particles, 2 ppc") != std::string::npos)

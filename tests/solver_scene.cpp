@@ -191,7 +191,7 @@ BOOST_AUTO_TEST_CASE(defaults) {
   BOOST_TEST((s.time.criterion == Criterion::l2));
   BOOST_TEST(s.time.safety == 1.0);
   BOOST_TEST(!s.particles_move);
-  BOOST_TEST((s.pseudo_stiffness == dgmpm::PseudoStiffness::consistent));
+  BOOST_TEST((s.formulation == dgmpm::Formulation::consistent));
   BOOST_TEST(!s.exact.has_value());
   BOOST_TEST(s.output.directory.empty());
   BOOST_TEST(s.output.times == std::vector<double>{1.0});
@@ -327,14 +327,14 @@ BOOST_AUTO_TEST_CASE(refuses_wrong_types) {
   doc = base();
   doc["fill_correction"] = true;
   check_refused(doc, {"fill_correction: value true is no longer read",
-                      "\"pseudo_stiffness\": \"consistent\" (the default)"});
+                      "\"formulation\": \"consistent\" (the default)"});
   doc = base();
-  doc["pseudo_stiffness"] = "scaled";
-  check_refused(doc, {"pseudo_stiffness: value \"scaled\"", "consistent, particles"});
+  doc["formulation"] = "scaled";
+  check_refused(doc, {"formulation: value \"scaled\"", "consistent, paper"});
   doc = base();
   doc["method"] = "mpm-usl";
-  doc["pseudo_stiffness"] = "particles";
-  check_refused(doc, {"pseudo_stiffness: value \"particles\" is a DGMPM option"});
+  doc["formulation"] = "paper";
+  check_refused(doc, {"formulation: value \"paper\" is a DGMPM option"});
   doc = base();
   doc["time"]["end"] = "6e-4";
   check_refused(doc, {"time.end: value \"6e-4\" has the wrong type", "a number > 0"});

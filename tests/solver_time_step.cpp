@@ -71,7 +71,7 @@ Extremes run_recording(BarSimulation& sim, double t_end) {
 }  // namespace
 
 // Cells that come to hold two particles are unstable at C = 1 (admissible 0.686 for a regular
-// pair): with the paper's pseudo-stiffness the run degrades badly; the consistent one (over-full
+// pair): with the paper's formulation the run degrades badly; the consistent one (over-full
 // cells then act as full cells of a denser material, slower) degrades less, but the energy still
 // rises above its initial value (1.5%, and stresses reach -1.49 Z v0).
 BOOST_AUTO_TEST_CASE(moving_two_bar_impact_degrades_at_courant_one) {
@@ -80,7 +80,7 @@ BOOST_AUTO_TEST_CASE(moving_two_bar_impact_degrades_at_courant_one) {
   BarSimulation consistent(scene::parse_scene(doc));
   const Extremes r = run_recording(consistent, t_end);
   BOOST_TEST((r.failed || r.max_energy > 1.01 * e0));
-  doc["pseudo_stiffness"] = "particles";
+  doc["formulation"] = "paper";
   BarSimulation paper(scene::parse_scene(doc));
   const Extremes p = run_recording(paper, t_end);
   BOOST_TEST((p.failed || p.max_energy > 1.5 * e0 || p.min_stress < -1.5 * Z * v0));
@@ -102,7 +102,7 @@ BOOST_AUTO_TEST_CASE(moving_two_bar_impact_with_auto_steps_stays_bounded) {
 }
 
 // "auto" with the monotone criterion should keep the stress inside the exact range [-Z v0, 0].
-// With the paper's pseudo-stiffness it does so as long as no cell holds more than a full cell's
+// With the paper's formulation it does so as long as no cell holds more than a full cell's
 // mass; once the moving particles pile two into one cell, the operators no longer preserve
 // constant states there (tests/lib_consistency.cpp) and new extrema appear whatever dt is.
 // Asserted here: the range holds up to that step, the first value outside it appears next to the
@@ -117,7 +117,7 @@ struct RangeHistory {
 RangeHistory monotone_range_history(double safety) {
   json doc = moving_two_bar("auto", "monotone");
   doc["time"]["safety"] = safety;
-  doc["pseudo_stiffness"] = "particles";
+  doc["formulation"] = "paper";
   BarSimulation sim(scene::parse_scene(doc));
   const auto& grid = sim.problem().grid;
   const auto& particles = sim.particles();
@@ -178,14 +178,14 @@ BOOST_AUTO_TEST_CASE(monotone_auto_keeps_the_exact_range_until_a_cell_is_overful
   BOOST_TEST(half.max_stress > 0.01 * Z * v0);
 }
 
-// With the consistent pseudo-stiffness (the default) the over-full cells preserve constant states,
+// With the consistent formulation (the default) the over-full cells preserve constant states,
 // and the monotone criterion does what it promises: no new extrema in the characteristic
 // variables w = sigma -+ Z v
 // (the decoupled system it analyses), whose range [-Z v0, Z v0] bounds the stress from below by
 // -Z v0 at every step. The stress stays in the exact range [-Z v0, 0] until the release fronts,
 // smeared over a few cells, meet at the contact just before the exact separation (t = 150 dx/c):
 // w-monotonicity does not bound sigma = (w+ + w-) / 2 by 0 there, and a little tension appears.
-BOOST_AUTO_TEST_CASE(the_consistent_pseudo_stiffness_makes_monotone_auto_keep_the_range) {
+BOOST_AUTO_TEST_CASE(the_consistent_formulation_makes_monotone_auto_keep_the_range) {
   json doc = moving_two_bar("auto", "monotone");
   BarSimulation sim(scene::parse_scene(doc));
   // tol: the cache's layout quantisation moves a particle by up to 2^-9 of its distance to a node,
@@ -343,7 +343,7 @@ BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
   BOOST_TEST(full_layout > scene_limit);  // the periodic model alone would be unstable here
   BOOST_TEST(used <= scene_limit);
   BOOST_TEST(used >= 0.5 * scene_limit);
-  // Stable: the energy never grows (the consistent pseudo-stiffness keeps the bar rigid: below).
+  // Stable: the energy never grows (the consistent formulation keeps the bar rigid: below).
   // With the paper's form a part-full cell breaks consistency (tests/lib_consistency.cpp), its
   // ends radiate stress waves and the energy settles near 3.3 e0.
   const double e0 = sim.energy(), dt = sim.stable_time_step();
@@ -363,9 +363,9 @@ BOOST_AUTO_TEST_CASE(half_full_end_cells_take_the_small_cell_rule) {
   BOOST_TEST((u.failed || u.max_energy > 1e6 * e0));
 }
 
-// With the consistent pseudo-stiffness the half-full end cells preserve the rigid translation: no
+// With the consistent formulation the half-full end cells preserve the rigid translation: no
 // stress appears, the energy stays put.
-BOOST_AUTO_TEST_CASE(the_consistent_pseudo_stiffness_keeps_a_bar_with_half_full_ends_rigid) {
+BOOST_AUTO_TEST_CASE(the_consistent_formulation_keeps_a_bar_with_half_full_ends_rigid) {
   json doc = bar_with_half_full_ends();
   BarSimulation sim(scene::parse_scene(doc));
   const double e0 = sim.energy();
@@ -377,14 +377,14 @@ BOOST_AUTO_TEST_CASE(the_consistent_pseudo_stiffness_keeps_a_bar_with_half_full_
   BOOST_TEST((sim.velocity().array() - v0).abs().maxCoeff() <= 1e-9 * v0);
 }
 
-// The whole-scene analysis steps through the scene's own stepper, pseudo-stiffness included: the
+// The whole-scene analysis steps through the scene's own stepper, formulation included: the
 // consistent form changes the half-full end cells' volume term, and the scene's limit moves with
 // it (0.4565 with the paper's form, 0.64 with the consistent one).
-BOOST_AUTO_TEST_CASE(scene_spectrum_honours_the_pseudo_stiffness) {
+BOOST_AUTO_TEST_CASE(scene_spectrum_honours_the_formulation) {
   json doc = bar_with_half_full_ends();
   doc["time"]["courant"] = 0.5;
   const double consistent = analyse_scene_spectrum(scene::parse_scene(doc)).courant;
-  doc["pseudo_stiffness"] = "particles";
+  doc["formulation"] = "paper";
   const double paper = analyse_scene_spectrum(scene::parse_scene(doc)).courant;
   BOOST_TEST_MESSAGE("scene limit with the paper's form " << paper << ", consistent "
                                                           << consistent);

@@ -106,7 +106,7 @@ BOOST_AUTO_TEST_CASE(over_full_cells_warn_in_2d) {
                         "dcu", "rk2");
   doc["particles_move"] = true;
   doc["time"]["courant"] = 0.5;
-  doc["pseudo_stiffness"] = "particles";  // the consistent form removes the cause, and the warning
+  doc["formulation"] = "paper";  // the consistent form removes the cause, and the warning
   PlaneStrainSimulation sim(scene::parse_scene(doc));
   for (int k = 0; k < 400 && sim.warnings().empty(); ++k) sim.step(sim.stable_time_step());
   BOOST_REQUIRE(!sim.warnings().empty());

@@ -227,7 +227,9 @@ BOOST_AUTO_TEST_CASE(measure_on_the_large_sample, *boost::unit_test::disabled())
 // node is put on it. Below node 1 that makes it the next cell's xi = 0, so {0, 1 - d} is analysed
 // as one particle (C* = 1) while C*(exact) -> 0 (like sqrt(d) for euler/l2, like d for monotone),
 // and two particles near node 0 merge into {0, 0}. Moving particles pass through such layouts in
-// a step or two; resolving them would make dt ~ d h / c (see time_step_control.hpp).
+// a step or two; resolving them would make dt ~ d h / c (see time_step_control.hpp). Two
+// particles near node 0 leave node 1 near-empty: under RK2 the consistent formulation damps its
+// first stage, and their C* stays close to {0, 0}'s (it fell like d with the paper's form).
 BOOST_AUTO_TEST_CASE(a_particle_put_onto_node_one_overestimates_without_bound) {
   for (double f : {0.45, 0.25, 0.0625}) {
     const double d = f * q;
@@ -242,13 +244,13 @@ BOOST_AUTO_TEST_CASE(a_particle_put_onto_node_one_overestimates_without_bound) {
   }
 }
 
-BOOST_AUTO_TEST_CASE(two_particles_put_onto_node_zero_overestimate_without_bound) {
+BOOST_AUTO_TEST_CASE(two_particles_put_onto_node_zero_overestimate_little) {
   for (double f : {0.45, 0.25, 0.0625}) {
     const double d = f * q;
     BOOST_TEST_CONTEXT("positions {" << f / 2 << " q, " << f << " q}") {
       const CellLayout pair{{d / 2, d}, {}};
-      BOOST_TEST(overestimate(pair, TimeScheme::rk2, Criterion::l2) > 25 / std::sqrt(f / 0.45));
-      BOOST_TEST(overestimate(pair, TimeScheme::rk2, Criterion::monotone) > 0.15 / d);
+      BOOST_TEST(overestimate(pair, TimeScheme::rk2, Criterion::l2) <= 1.2);        // measured 1.14
+      BOOST_TEST(overestimate(pair, TimeScheme::rk2, Criterion::monotone) <= 1.5);  // 1.44
       BOOST_TEST(overestimate(pair, TimeScheme::euler, Criterion::l2) == 1.0,
                  boost::test_tools::tolerance(1e-4));
     }

@@ -110,19 +110,34 @@ class DGOperator {
   }
 
   // RK2's first stage: q0 = projection of qp, q1 = q0 + dt M^-1 r(q0, t) on every occupied cell.
+  // At a near-empty node (Discretisation::stage_share) the residual over the node's small mass
+  // makes q1 large where the cell's volume term and fluxes do not cancel, and the second stage
+  // would carry it through the node's faces into the neighbours (growth like C^2 / share, near
+  // faces and corners). There q1 holds the state the second stage evaluates its residual at,
+  // q0 + w (q1 - q0) with w = share / stage_share, and `excess` the rest, (1 - w) (q1 - q0),
+  // which the second stage adds back: the step stays conservative and second order where w = 1.
+  // `excess` is written only in cells with such a node.
   void project_and_advance(const ParticleField& qp, const Eigen::VectorXd& mass, double t,
-                           double dt, NodalField& q0, NodalField& q1) const {
+                           double dt, NodalField& q0, NodalField& q1, NodalField& excess) const {
     q0.resize(ncomp, num_nodes());
     q1.resize(ncomp, num_nodes());
-    advance(Projection{&qp, &q0}, mass, q0, t, dt,
-            [&](int c, CellBlock& out, Sweep&) { q1.template middleCols<npc>(c * npc) = out; });
+    const bool damped = disc_.has_near_empty_nodes();
+    if (damped) excess.resize(ncomp, num_nodes());
+    advance(Projection{&qp, &q0}, mass, q0, t, dt, [&](int c, CellBlock& out, Sweep&) {
+      if (damped && disc_.near_empty(c)) damp_near_empty(c, q0, out, excess);
+      q1.template middleCols<npc>(c * npc) = out;
+    });
   }
 
-  // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2.
-  bool average_to_particles(const NodalField& q0, const NodalField& q1, const Eigen::VectorXd& mass,
-                            double t, double dt, ParticleField& qp) const {
+  // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2, plus the
+  // first stage's excess at near-empty nodes.
+  bool average_to_particles(const NodalField& q0, const NodalField& q1, const NodalField& excess,
+                            const Eigen::VectorXd& mass, double t, double dt,
+                            ParticleField& qp) const {
+    const bool damped = disc_.has_near_empty_nodes();
     return advance(Projection{}, mass, q1, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
+      if (damped && disc_.near_empty(c)) out += 0.5 * excess.template middleCols<npc>(c * npc);
       interpolate_cell(c, out, qp);
       sweep.check(out);
     });
@@ -229,6 +244,21 @@ class DGOperator {
   }
 
  private:
+  // RK2's first stage at cell c's near-empty nodes (project_and_advance): out becomes the damped
+  // state, excess the rest. A massless node keeps the copy of its stand-in.
+  void damp_near_empty(int c, const NodalField& q0, CellBlock& out, NodalField& excess) const {
+    const double cell = disc_.cell_mass(c);
+    for (int a = 0; a < npc; ++a) {
+      const int i = c * npc + a;
+      const double share = disc_.node_mass(i) / cell;
+      const double w = disc_.source_corner(i) == a
+                           ? std::min(1.0, share / Discretisation<Physics>::stage_share)
+                           : 1.0;
+      excess.col(i) = (1.0 - w) * (out.col(a) - q0.col(i));
+      out.col(a) -= excess.col(i);
+    }
+  }
+
   template <class Block>
   void interpolate_cell(int c, const Block& block, ParticleField& qp) const {
     for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)

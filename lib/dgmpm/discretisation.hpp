@@ -31,16 +31,23 @@ template <int Dim, int NComp>
   throw ParticleOutsideGrid(particles.id[p], s.str());
 }
 
-// The volume term's pseudo-stiffness (docs/method.md, "Discretisation"). `particles`: the paper's
-// K^l_ij = sum_p m_p dS_i/dx_l(x_p) S_j(x_p). `consistent` (the default): the same plus, in a cell
-// where it does not preserve constant states (part-full or over-full cells, and in 2D particles
-// whose mass is not centred along the other axis), the rank-one term (t^l - K^l 1) u^T, with t^l
-// the exact rho int dS_i/dx_l dV and u the nodes' shares of the cell's mass: constant states are
-// then preserved at every node and momentum is still conserved (the columns still sum to zero).
-enum class PseudoStiffness { consistent, particles };
+// The formulation of the scheme (docs/method.md, "Discretisation"). `paper`: the founding paper's,
+// the volume term's pseudo-stiffness K^l_ij = sum_p m_p dS_i/dx_l(x_p) S_j(x_p) and RK2's stages on
+// the nodes as they are. `consistent` (the default) departs from it in two places, both where the
+// paper's form is unstable at every time step as particles move:
+//  - in a cell whose K does not preserve constant states (part-full or over-full cells, and in 2D
+//    particles whose mass is not centred along an axis), K^l gains the rank-one term
+//    (t^l - K^l 1) u^T, t^l the exact rho int dS_i/dx_l dV and u the nodes' shares of the cell's
+//    mass: constant states are preserved at every node and momentum is still conserved (the
+//    columns still sum to zero);
+//  - RK2's second stage evaluates its residual at a damped first-stage state at nodes holding
+//    less than stage_share of their cell's mass (DGOperator::project_and_advance).
+// Cells and nodes the paper's form handles well (full cells with centred mass, nodes holding a
+// fair share) are left as they are, to the last bit.
+enum class Formulation { consistent, paper };
 
-inline const char* to_string(PseudoStiffness k) {
-  return k == PseudoStiffness::consistent ? "consistent" : "particles";
+inline const char* to_string(Formulation f) {
+  return f == Formulation::consistent ? "consistent" : "paper";
 }
 
 template <class Physics>
@@ -53,6 +60,11 @@ class Discretisation {
   using Shape = CellShape<dim>;
   using Stiffness = Eigen::Matrix<double, npc, npc>;
   static constexpr double massless_share = 1e-10;
+  // Under the consistent formulation a node holding less than this share of its cell's mass
+  // (and more than massless_share) is near-empty: RK2's second stage evaluates its residual there
+  // at a damped first-stage state (dg_operator.hpp, project_and_advance). Below the share of a
+  // cell's centred particle (1/4 in 2D, 1/2 in 1D), so regular layouts are never damped.
+  static constexpr double stage_share = 0.2;
   // Builds of this many cells or particles or more run on threads: the particles' cells, then the
   // cells' values (each cell writes only its own); the sort by cell and the blends of mixed cells
   // (in cell order) stay serial. The result does not depend on the number of threads.
@@ -65,8 +77,8 @@ class Discretisation {
   // Its RK2 stage values then drift at nodes holding little mass, by the residual over that mass:
   // the cause of the blow-ups of moving particles near faces and of the weak long-wave growth of
   // off-centre particles under RK2 (docs/method.md, "Stability"). The consistent form removes it.
-  void set_pseudo_stiffness(PseudoStiffness k) { pseudo_stiffness_ = k; }
-  PseudoStiffness pseudo_stiffness() const { return pseudo_stiffness_; }
+  void set_formulation(Formulation f) { formulation_ = f; }
+  Formulation formulation() const { return formulation_; }
 
   // Rebuilds from the particles' current positions. Storage is reused: no allocation once the
   // sizes are reached. Incremental: when no particle changed cell since the last build (moving
@@ -116,9 +128,13 @@ class Discretisation {
     occupied_.assign(nc, 0);
     cell_volume_ = grid.cell_volume();
 
+    near_empty_.assign(nc, 0);
     int first_overfull = nc;
-    bool massless = false;
-#pragma omp parallel for reduction(min : first_overfull) reduction(|| : massless) if (threaded)
+    bool massless = false, near_empty = false;
+#pragma omp parallel for reduction(min                                                             \
+                                   : first_overfull)                                               \
+    reduction(||                                                                                   \
+              : massless, near_empty) if (threaded)
     for (int c = 0; c < nc; ++c) {
       double cell_mass = 0.0;
       int pure = -1;  // the material every particle so far carries; kMixed once several
@@ -134,6 +150,13 @@ class Discretisation {
       occupied_[c] = cell_mass > 0.0;
       if (!occupied_[c]) continue;
       massless = set_node_sources(c, cell_mass) || massless;
+      for (int a = 0; a < npc; ++a) {
+        const double m = node_mass_[c * npc + a];
+        if (formulation_ == Formulation::consistent && m > massless_share * cell_mass &&
+            m < stage_share * cell_mass)
+          near_empty_[c] = 1;
+      }
+      near_empty = near_empty || near_empty_[c];
       cell_material_[c] = pure;
       if (pure != kMixed) finish_cell(c, first_overfull);
     }
@@ -161,6 +184,7 @@ class Discretisation {
       finish_cell(c, first_overfull);
     }
     has_massless_ = massless;
+    has_near_empty_ = near_empty;
     first_overfull_ = first_overfull < nc ? first_overfull : -1;
   }
 
@@ -195,7 +219,7 @@ class Discretisation {
     return table_[cell_material_[c]];
   }
   // Cell c's pseudo-stiffness matrices, one per axis: K^l = sum_p m_p grad_l S(x_p) S(x_p)^T
-  // (made consistent where it is not: set_pseudo_stiffness), `mass` the masses of the particles
+  // (made consistent where it is not: set_formulation), `mass` the masses of the particles
   // built from. Computed when asked from the cell's particles: a few products per particle, where
   // storing them cost npc^2 doubles per cell and axis (256 bytes per cell in 2D).
   std::array<Stiffness, dim> stiffness(int c, const Eigen::VectorXd& mass) const {
@@ -211,8 +235,7 @@ class Discretisation {
       share += mass[p] * s;
       cell += mass[p];
     }
-    if (pseudo_stiffness_ == PseudoStiffness::consistent && cell > 0.0)
-      make_consistent(c, share / cell, k);
+    if (formulation_ == Formulation::consistent && cell > 0.0) make_consistent(c, share / cell, k);
     return k;
   }
   double node_mass(int i) const {
@@ -242,6 +265,13 @@ class Discretisation {
   // Whether some occupied cell has a massless node (so update() has residuals to fold).
   bool has_massless_nodes() const {
     return has_massless_;
+  }
+  // Whether some occupied cell, or cell c, has a near-empty node (stage_share).
+  bool has_near_empty_nodes() const {
+    return has_near_empty_;
+  }
+  bool near_empty(int c) const {
+    return near_empty_[c];
   }
   int num_particles() const {
     return static_cast<int>(entries_.size());
@@ -325,8 +355,9 @@ class Discretisation {
   std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
   std::vector<int> cell_material_;  // index into table_
   std::vector<char> occupied_;
-  bool has_massless_ = false;
-  PseudoStiffness pseudo_stiffness_ = PseudoStiffness::consistent;
+  std::vector<char> near_empty_;  // per cell: some node holds (massless, stage) share
+  bool has_massless_ = false, has_near_empty_ = false;
+  Formulation formulation_ = Formulation::consistent;
   double cell_volume_ = 0.0;
   int first_overfull_ = -1;
   long sorts_ = 0;

@@ -16,7 +16,7 @@ namespace dgmpm {
 struct StepperOptions {
   TimeScheme time = TimeScheme::euler;
   FluxScheme flux = FluxScheme::dcu;
-  PseudoStiffness pseudo_stiffness = PseudoStiffness::consistent;
+  Formulation formulation = Formulation::consistent;
 };
 
 template <class Physics>
@@ -31,7 +31,7 @@ class Stepper {
   // integrator's buffers exist.
   Stepper(const Grid<dim>& grid, const Boundaries<dim>& boundaries, const StepperOptions& options)
       : grid_(grid), boundaries_(boundaries), options_(options) {
-    disc_.set_pseudo_stiffness(options.pseudo_stiffness);
+    disc_.set_formulation(options.formulation);
     if (options.time == TimeScheme::rk2)
       integrator_.template emplace<HeunRK2<Physics>>();
     else

@@ -34,15 +34,16 @@ class HeunRK2 {
   using Op = DGOperator<Physics>;
   static constexpr const char* name = "rk2";
 
-  // q1 = q0 + dt L(q0, t); q^{n+1} = (q0 + q1 + dt L(q1, t + dt)) / 2.
+  // q1 = q0 + dt L(q0, t); q^{n+1} = (q0 + q1 + dt L(q1, t + dt)) / 2 (L evaluated at a damped
+  // q1 at near-empty nodes: DGOperator::project_and_advance).
   bool step(const Op& op, typename Op::ParticleField& qp, const Eigen::VectorXd& mass, double t,
             double dt) {
-    op.project_and_advance(qp, mass, t, dt, q0_, q1_);
-    return op.average_to_particles(q0_, q1_, mass, t + dt, dt, qp);
+    op.project_and_advance(qp, mass, t, dt, q0_, q1_, excess_);
+    return op.average_to_particles(q0_, q1_, excess_, mass, t + dt, dt, qp);
   }
 
  private:
-  typename Op::NodalField q0_, q1_;
+  typename Op::NodalField q0_, q1_, excess_;  // excess_: only when some node is near-empty
 };
 
 }  // namespace dgmpm
