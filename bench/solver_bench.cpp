@@ -102,7 +102,7 @@ void print_time_step_cost(std::ostream& out, const std::vector<AutoRun>& runs, d
     const double n = static_cast<double>(problem.particles.size());
     const double rebuilds = best_calls_per_second(
         [&] { disc.build(problem.grid, problem.particles, problem.materials); }, seconds);
-    TimeStepControl<ElasticBar> control(scene);
+    TimeStepControl<ElasticBar> control(scene, problem.max_wave_speed());
     double dt = 0;
     const double dts = best_calls_per_second(
         [&] { dt = control.time_step(problem.grid, disc, problem.particles); }, seconds);

@@ -61,11 +61,17 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
       scene.dimension > 1 && scene.method == scene::Method::dgmpm ? ", " : "",
       scene.dimension > 1 && scene.method == scene::Method::dgmpm ? to_string(scene.flux) : "",
       sim.num_particles(), sim.num_cells());
-  std::printf("steps %ld, final time %.9g s, dt %.6g to %.6g s, wall %.3f s\n", s.steps,
-              s.final_time, s.dt_min, s.dt_max, s.wall_seconds);
-  if (scene.time.courant_auto)
-    std::printf("automatic time step (%s, safety %g): %d layouts analysed\n",
-                scene::to_string(scene.time.criterion), scene.time.safety, s.layouts_analysed);
+  std::printf("steps %ld, final time %.9g s, dt %.6g to %.6g s, wall %.3f s (set-up %.3f s, "
+              "steps %.3f s)\n",
+              s.steps, s.final_time, s.dt_min, s.dt_max, s.wall_seconds, s.setup_seconds,
+              s.stepping_seconds);
+  if (scene.time.courant_auto) {
+    std::printf("automatic time step (%s", scene::to_string(scene.time.criterion));
+    if (scene.time.criterion == scene::Criterion::budget)
+      std::printf(" %g over the run", scene.time.growth_budget);
+    std::printf(", safety %g): %d layouts analysed, %.3f s choosing steps\n", scene.time.safety,
+                s.layouts_analysed, s.time_step_seconds);
+  }
   const char* unit = energy_unit(scene.dimension);
   if (s.energy_initial > 0)
     std::printf("energy (%s): initial %.12g, final %.12g, relative change %.3e\n", unit,

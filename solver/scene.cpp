@@ -498,8 +498,8 @@ class Parser {
 
   TimeSpec parse_time(const json& t) const {
     check_object(t, "time",
-                 {"end", "integrator", "courant", "criterion", "safety", "blow_up_check",
-                  "blow_up_factor", "max_steps"});
+                 {"end", "integrator", "courant", "criterion", "growth_budget", "safety",
+                  "blow_up_check", "blow_up_factor", "max_steps"});
     TimeSpec time;
     time.end = positive(require(t, "time", "end", "a number > 0"), "time.end");
     if (const json* i = find(t, "integrator"))
@@ -518,7 +518,17 @@ class Parser {
     if (const json* c = find(t, "criterion")) {
       if (!time.courant_auto)
         refuse("time.criterion", *c, "is not allowed without \"courant\": \"auto\"", only_auto);
-      time.criterion = named(*c, "time.criterion", {Criterion::l2, Criterion::monotone});
+      time.criterion =
+          named(*c, "time.criterion", {Criterion::budget, Criterion::l2, Criterion::monotone});
+    }
+    if (const json* g = find(t, "growth_budget")) {
+      if (!time.courant_auto || time.criterion != Criterion::budget)
+        refuse("time.growth_budget", *g, "is not allowed without the budget criterion",
+               "only with \"courant\": \"auto\" and \"criterion\": \"budget\" (the default)");
+      const std::string allowed = "a factor > 1 (the most a mode may grow over the run)";
+      time.growth_budget = number(*g, "time.growth_budget", allowed);
+      if (!(time.growth_budget > 1 && std::isfinite(time.growth_budget)))
+        not_allowed("time.growth_budget", *g, allowed);
     }
     if (const json* s = find(t, "safety")) {
       if (!time.courant_auto)

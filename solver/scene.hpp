@@ -69,7 +69,9 @@ struct TimeSpec {
   Integrator integrator = Integrator::euler;
   bool courant_auto = false;
   double courant = 1.0;  // when not auto
-  Criterion criterion = Criterion::l2;
+  // auto only: budget (l2, or a growth within growth_budget over the run), l2 or monotone.
+  Criterion criterion = Criterion::budget;
+  double growth_budget = 1.01;
   double safety = 1.0;  // auto only
   // A run stops (exit 1) when its energy exceeds blow_up_factor times (initial energy + work of
   // the loads), unless blow_up_check is false.

@@ -84,6 +84,9 @@ nlohmann::json RunSummary::to_json() const {
   j["courant_min"] = courant_min;
   j["courant_max"] = courant_max;
   j["wall_seconds"] = wall_seconds;
+  j["setup_seconds"] = setup_seconds;
+  j["stepping_seconds"] = stepping_seconds;
+  j["time_step_seconds"] = time_step_seconds;
   j["energy_initial"] = energy_initial;
   j["energy_final"] = energy_final;
   j["boundary_work"] = boundary_work;
@@ -121,6 +124,11 @@ std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene, Commu
 
 template <class Physics>
 Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
+    : Simulation(scene, ranks, std::chrono::steady_clock::now()) {}
+
+template <class Physics>
+Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
+                                std::chrono::steady_clock::time_point start)
     : scene_(scene), problem_(make_problem<Physics>(scene)) {
   sort_by_cell(problem_.grid, problem_.particles);
   total_particles_ = problem_.particles.size();
@@ -132,7 +140,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
     stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
                                                   stepper_options(scene_));
     stepper_->rebuild(problem_.particles, problem_.materials);
-    time_control_.emplace(scene_);
+    time_control_.emplace(scene_, max_speed_);
     dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
     if (!time_control_->automatic()) warn_if_above_admissible();
     if (scene_.formulation == Formulation::paper) warn_if_overfull_cell(0, 0.0);
@@ -156,6 +164,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
   }
   if (ranks && ranks->size() > 1) distribute(*ranks);
   initial_energy_ = energy();
+  setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // Set up on the whole scene (so the time step and the warnings are the serial run's), then
@@ -788,7 +797,10 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
       summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
     }
   }
-  summary.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  summary.stepping_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  summary.setup_seconds = setup_seconds_;
+  summary.wall_seconds = summary.setup_seconds + summary.stepping_seconds;
+  if (time_control_) summary.time_step_seconds = time_control_->selection_seconds();
   if (writes && root()) {
     if (commits)
       committed.commit();

@@ -12,6 +12,7 @@
 
 #include <dgmpm/stepper.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -31,7 +32,10 @@ struct ErrorNorms {
 struct RunSummary {
   nlohmann::json run;  // what ran: scene, method, integrator, dimension, (flux), particles, cells
   long steps = 0;
-  double final_time = 0, dt_min = 0, dt_max = 0, wall_seconds = 0;
+  double final_time = 0, dt_min = 0, dt_max = 0;
+  // wall = set-up (the problem, the operators, the first time step) + stepping (the time loop);
+  // time_step: choosing steps (layouts analysed included), part of both.
+  double wall_seconds = 0, setup_seconds = 0, stepping_seconds = 0, time_step_seconds = 0;
   double courant_min = 0, courant_max = 0;  // c_max dt / h of the controlled steps
   double energy_initial = 0, energy_final = 0;
   double boundary_work = 0;  // work done on the body by boundary loads (traction, velocity)
@@ -88,6 +92,9 @@ class Simulation final : public SimulationBase {
   // With `ranks` of more than one rank: this rank's part of a distributed run (docs/distributed.md;
   // DGMPM only). Every rank is given the same scene; calls are then collective.
   explicit Simulation(const scene::Scene& scene, Communicator* ranks = nullptr);
+  // The same, its set-up time counted from `start` (when the caller began reading the scene).
+  Simulation(const scene::Scene& scene, Communicator* ranks,
+             std::chrono::steady_clock::time_point start);
   ~Simulation() override;
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -193,7 +200,8 @@ class Simulation final : public SimulationBase {
   std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
   std::unique_ptr<Halo<dim, ncomp>> halo_;     // distributed runs
   int total_particles_ = 0, total_cells_ = 0;
-  double max_speed_ = 0;  // of the materials the particles carry
+  double setup_seconds_ = 0;  // the constructor's wall time
+  double max_speed_ = 0;      // of the materials the particles carry
   // Initial positions, kept for the exact solution of moving particles only (fixed particles are
   // their own reference).
   Eigen::Matrix<double, dim, Eigen::Dynamic> reference_position_;

@@ -3,13 +3,24 @@
 // dt = S min over occupied cells of min(1, f) C*(layout) h / c_cell, C* being the admissible
 // Courant number of the cell's particle layout from stability/ (the analysis of the operators the
 // solver runs) and f the cell's fill: its particles' mass over rho times its volume. h is the
-// smallest cell size, c the largest wave speed of the cell's material.
+// smallest cell size, c the largest wave speed of the cell's material. C* follows the scene's
+// criterion: the growth budget (the default: the L2 limit, or above it, when the layout is weakly
+// unstable, the largest C at which no mode grows by more than time.growth_budget over the run),
+// the strict L2 criterion, or the monotone one (1D).
 //
 // The fill factor is the small-cell rule: a partly filled cell (a body ending inside it) has
 // nodal masses f times those of the full layout the analysis assumes, while the face fluxes are
 // unchanged, so waves cross it as if it were f h long. The periodic model cannot see this (every
 // cell is full there); tests/solver_time_step.cpp checks the rule against the spectral radius of
 // the whole scene's operator.
+//
+// Layouts are analysed once and cached. Fixed particles' layouts are keyed to 1e-9. Moving
+// particles' positions drift every step, so a cell's C* is bounded from a lattice of positions
+// instead (LayoutLattice): the smallest C* over the corners of the lattice box that holds the
+// layout, corners analysed once each, for layouts of up to four coordinates; larger layouts are
+// rounded to 1/4096 (LayoutQuantisation). The paper's formulation keeps the rounding for all:
+// there C* -> 0 as a particle closes on a node (and jumps back to 1 on it), which no lattice box
+// bounds usefully.
 
 #include "solver/scene.hpp"
 
@@ -21,22 +32,26 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <set>
+#include <unordered_map>
 #include <vector>
 
 namespace dgmpm {
 
 // Positions (local coordinates) are rounded before the analysis, so that the cache serves
-// layouts equal but for round-off (fixed particles) or drifting slowly (moving particles): to
-// multiples of a quantum, except near a node, where C* varies like the distance d to it: there
-// d keeps 8 significant bits (relative error 2^-9, finer than the quantum below 2^8 quanta).
-// Below half a quantum the particle is put on the node: the resolution of the cache. Some
-// layouts have C* -> 0 as d -> 0 but C* = 1 at d = 0 ({0, 1 - d}); resolving them would let a
-// layout that moving particles pass through in a step or two stall the run (dt ~ d h / c).
-// tests/solver_time_step_quantisation.cpp measures the error on both sides of q / 2.
+// layouts equal but for round-off (fixed particles) or drifting slowly (moving particles of
+// large layouts): to multiples of a quantum, except near a node, where C* varies like the
+// distance d to it: there d keeps 8 significant bits (relative error 2^-9, finer than the quantum
+// below 2^8 quanta). Below half a quantum the particle is put on the node: the resolution of the
+// cache. Some layouts have C* -> 0 as d -> 0 but C* = 1 at d = 0 ({0, 1 - d}); resolving them
+// would let a layout that moving particles pass through in a step or two stall the run
+// (dt ~ d h / c). tests/solver_time_step_quantisation.cpp measures the error on both sides of q
+// / 2.
 struct LayoutQuantisation {
   static constexpr double fixed_position_quantum = 1e-9;
   static constexpr double moving_position_quantum = 1.0 / 4096;
@@ -46,6 +61,22 @@ struct LayoutQuantisation {
   static double quantise_position(double xi, double quantum);
 };
 
+// The lattice of local positions a moving particle's C* is bounded from: uniform with spacing
+// 1/64 where the distance d to the nearest node is at least 1/16, and geometric below, four
+// points per halving of d, down to 2^-13, then the node. Near a node C* varies like d (two
+// particles closing on a face from both sides) or faster: the geometric points keep a box's
+// relative width constant (1.19), and the box's smaller distance is one of its corners.
+struct LayoutLattice {
+  static constexpr int kPerOctave = 4, kOctaves = 9, kUniform = 64;
+  static constexpr int kNear = kPerOctave * kOctaves;  // geometric points per node
+  static constexpr int kSide = 1 + kNear + kUniform / 2 - kUniform / 16 + 1;  // 0 .. 1/2
+  static constexpr int kPoints = 2 * kSide - 1;                               // 0 .. 1, 1/2 once
+  // The lattice's points in increasing order, from 0 to 1.
+  static const std::array<double, kPoints>& points();
+  // The index of the box [points[k], points[k + 1]] holding xi in [0, 1] (the last box for 1).
+  static int box(double xi);
+};
+
 template <class Physics>
 class TimeStepControl : public LayoutQuantisation {
  public:
@@ -53,10 +84,13 @@ class TimeStepControl : public LayoutQuantisation {
   using Disc = Discretisation<Physics>;
   using ParticleSet = Particles<dim, Physics::n_comp>;
 
-  // Throws scene::SceneError for a criterion the analysis cannot apply (2D elastic monotone).
-  explicit TimeStepControl(const scene::Scene& scene)
+  // `max_wave_speed`: of the materials the particles carry (the growth budget's horizon is the
+  // run's length in crossings of the smallest cell at that speed). Throws scene::SceneError for a
+  // criterion the analysis cannot apply (2D elastic monotone).
+  TimeStepControl(const scene::Scene& scene, double max_wave_speed)
       : automatic_(scene.time.courant_auto), courant_(scene.time.courant),
         safety_(scene.time.safety),
+        lattice_(scene.particles_move && scene.formulation == Formulation::consistent),
         quantum_(scene.particles_move ? moving_position_quantum : fixed_position_quantum),
         criterion_(scene.time.criterion) {
     setting_.dim = dim;
@@ -69,16 +103,25 @@ class TimeStepControl : public LayoutQuantisation {
       throw scene::SceneError(
           scene.source +
           ": time.criterion: value \"monotone\" is not available in 2D: the elastic system does "
-          "not split into the scalar waves the criterion needs; allowed: \"l2\"");
+          "not split into the scalar waves the criterion needs; allowed: \"budget\" or \"l2\"");
+    budget_.factor = scene.time.growth_budget;
+    budget_.crossings = true;
+    double h = std::numeric_limits<double>::infinity();
+    for (double s : scene.grid.cell_size) h = std::min(h, s);
+    budget_.horizon = std::max(1.0, max_wave_speed * scene.time.end / h);
     // A lone particle's map does not depend on where it sits, but for RK2 in 2D (the second
     // stage sees the unequal nodal masses of an off-centre particle).
     lone_particle_shared_ = dim == 1 || setting_.time == TimeScheme::euler;
+    // Mirrors (and the swap of x and y in square cells) map a layout to one of the same C*.
+    swap_symmetric_ = dim == 2 && setting_.aspect == 1.0;
   }
 
   bool automatic() const { return automatic_; }
+  const stability::GrowthBudget& growth_budget() const { return budget_; }
 
   // Time step of the current configuration. Fixed Courant: C h / max c over occupied cells.
   double time_step(const Grid<dim>& grid, const Disc& disc, const ParticleSet& particles) {
+    const auto start = std::chrono::steady_clock::now();
     const double h = grid.cell_size.minCoeff();
     double dt = std::numeric_limits<double>::infinity();
     for (int c = 0; c < disc.num_cells(); ++c) {
@@ -87,11 +130,13 @@ class TimeStepControl : public LayoutQuantisation {
       const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c) : courant_;
       dt = std::min(dt, cs * h / speed);
     }
+    selection_seconds_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return dt;
   }
 
   // The smallest admissible Courant number over the occupied cells, the cell that sets it and
-  // its layout (as analysed).
+  // its layout (rounded as the cache rounds it).
   struct Limit {
     double courant = 0;  // min(1, fill) C*(layout)
     int cell = -1;
@@ -110,73 +155,94 @@ class TimeStepControl : public LayoutQuantisation {
   }
 
   // Distinct layouts of the occupied cells that are not analysed yet (what smallest_admissible
-  // would analyse), without analysing them.
+  // would analyse for fixed particles), without analysing them.
   int layouts_to_analyse(const Disc& disc, const ParticleSet& particles) {
     std::set<std::vector<double>> keys;
     for (int c = 0; c < disc.num_cells(); ++c) {
-      if (!disc.occupied(c)) continue;
-      if (disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_ &&
-          lone_particle_courant_ > 0.0)
-        continue;
-      fill_key(disc, particles, c);
+      if (!disc.occupied(c) || lone_shared(disc, c)) continue;
+      fill_entries(disc, particles, c, quantum_);
+      fill_key(disc, c);
       if (!cache_.count(key_)) keys.insert(key_);
     }
     return static_cast<int>(keys.size());
   }
 
-  // Distinct layouts analysed so far (cache misses).
+  // Distinct layouts analysed so far (cache misses), and the seconds spent analysing them and
+  // choosing time steps (analyses included).
   int layouts_analysed() const { return static_cast<int>(cache_.size()); }
+  double analysis_seconds() const { return analysis_seconds_; }
+  double selection_seconds() const { return selection_seconds_; }
 
-  // The layout of cell c as analysed: positions (quantised when particles move) sorted, masses
-  // relative to the first one.
+  // The layout of cell c, rounded as for fixed particles or large layouts: positions sorted,
+  // masses relative to the first one.
   stability::CellLayout layout_of(const Disc& disc, const ParticleSet& particles, int c) {
-    fill_key(disc, particles, c);
+    fill_entries(disc, particles, c, quantum_);
+    fill_key(disc, c);
     return key_layout();
   }
 
-  // Admissible Courant number of cell c's layout, through the cache (no allocation on a hit),
+  // Admissible Courant number of cell c's layout, through the caches (no allocation on a hit),
   // times min(1, fill).
   double cell_courant(const Disc& disc, const ParticleSet& particles, int c) {
     const double small_cell = std::min(1.0, disc.fill(c));
-    const bool lone = disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_;
-    if (lone && lone_particle_courant_ > 0.0)
+    if (lone_shared(disc, c) && lone_particle_courant_ > 0.0)
       return small_cell * lone_particle_courant_;  // the common case, without building a key
-    fill_key(disc, particles, c);
-    const auto it = cache_.find(key_);
-    if (it != cache_.end()) return small_cell * it->second;
-    stability::AnalysisSetting setting = setting_;
-    if constexpr (dim > 1) setting.poisson = disc.cell_material(c).poisson;
-    const double courant = stability::admissible_courant(key_layout(), setting, criterion_).courant;
-    cache_.emplace(key_, courant);
-    if (lone && dim == 1) lone_particle_courant_ = courant;  // 2D: one entry per Poisson ratio
+    const int n = disc.cell_end(c) - disc.cell_begin(c);
+    if (lattice_ && n * dim <= kLatticeCoordinates && !lone_shared(disc, c))
+      return small_cell * lattice_courant(disc, particles, c);
+    fill_entries(disc, particles, c, quantum_);
+    const double courant = analysed(disc, c);
+    if (lone_shared(disc, c) && dim == 1) lone_particle_courant_ = courant;  // 2D: per Poisson
     return small_cell * courant;
   }
 
  private:
-  bool automatic_;
-  double courant_, safety_, quantum_;
-  stability::Criterion criterion_;
-  stability::AnalysisSetting setting_;
-  bool lone_particle_shared_ = true;
-  // Key: (2D: Poisson's ratio), positions (dim per particle, sorted), then relative masses.
-  std::map<std::vector<double>, double> cache_;
-  double lone_particle_courant_ = -1;  // the one-particle entry, once analysed
+  // Layouts of at most this many coordinates are bounded from the lattice (2^4 corners).
+  static constexpr int kLatticeCoordinates = 4;
+
   struct Entry {
     std::array<double, dim> x;
     double mass;
     bool operator<(const Entry& o) const { return x < o.x || (x == o.x && mass < o.mass); }
   };
-  std::vector<Entry> entries_;
-  std::vector<double> key_;
-  static constexpr int key_prefix = dim > 1 ? 1 : 0;  // Poisson's ratio in 2D
 
-  void fill_key(const Disc& disc, const ParticleSet& particles, int c) {
+  bool automatic_;
+  double courant_, safety_;
+  bool lattice_;
+  double quantum_;
+  stability::Criterion criterion_;
+  stability::AnalysisSetting setting_;
+  stability::GrowthBudget budget_;
+  bool lone_particle_shared_ = true, swap_symmetric_ = false;
+  double analysis_seconds_ = 0, selection_seconds_ = 0;
+  // Key: (2D: Poisson's ratio), positions (dim per particle, sorted), then relative masses; the
+  // smallest over the layout's mirror images.
+  std::map<std::vector<double>, double> cache_;
+  double lone_particle_courant_ = -1;  // the one-particle entry, once analysed (when shared)
+  std::vector<Entry> entries_, image_;
+  std::vector<double> key_, best_key_;
+  static constexpr int key_prefix = dim > 1 ? 1 : 0;  // Poisson's ratio in 2D
+  // Lattice boxes already bounded: a code of the cell's particle count, lattice boxes, masses
+  // (equal, or an index into masses_seen_) and Poisson's ratio (index into poisson_seen_).
+  std::unordered_map<std::uint64_t, double> boxes_;
+  std::vector<std::vector<double>> masses_seen_;
+  std::vector<double> poisson_seen_;
+  std::vector<double> relative_;
+
+  bool lone_shared(const Disc& disc, int c) const {
+    return disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_;
+  }
+
+  // Cell c's particles as entries (positions rounded to `quantum`, 0: as they are), sorted.
+  void fill_entries(const Disc& disc, const ParticleSet& particles, int c, double quantum) {
     entries_.clear();
     for (int e = disc.cell_begin(c); e < disc.cell_end(c); ++e) {
       const int p = disc.entry_particle(e);
       Entry entry;
-      for (int a = 0; a < dim; ++a)
-        entry.x[a] = quantise_position(disc.particle_local(p)[a], quantum_);
+      for (int a = 0; a < dim; ++a) {
+        const double xi = disc.particle_local(p)[a];
+        entry.x[a] = quantum > 0 ? quantise_position(xi, quantum) : xi;
+      }
       entry.mass = particles.mass[p];
       entries_.push_back(entry);
     }
@@ -186,12 +252,30 @@ class TimeStepControl : public LayoutQuantisation {
     // the centre.
     if (entries_.size() == 1 && lone_particle_shared_) entries_.front().x.fill(0.5);
     std::sort(entries_.begin(), entries_.end());
-    const double unit = entries_.front().mass;  // the analysis rescales masses to a full cell
-    key_.clear();
-    if constexpr (dim > 1) key_.push_back(disc.cell_material(c).poisson);
-    for (const auto& entry : entries_)
-      for (int a = 0; a < dim; ++a) key_.push_back(entry.x[a]);
-    for (const auto& entry : entries_) key_.push_back(entry.mass / unit);
+  }
+
+  // key_ from entries_ (and the cell's Poisson ratio): the smallest key over the entries' images
+  // under the mirrors x -> 1 - x (each axis) and, in square 2D cells, the swap of x and y.
+  void fill_key(const Disc& disc, int c) {
+    const int images = (1 << dim) * (swap_symmetric_ ? 2 : 1);
+    best_key_.clear();
+    for (int m = 0; m < images; ++m) {
+      image_ = entries_;
+      for (auto& entry : image_) {
+        for (int a = 0; a < dim; ++a)
+          if ((m >> a) & 1) entry.x[a] = 1.0 - entry.x[a];
+        if (m >> dim) std::swap(entry.x[0], entry.x[dim - 1]);
+      }
+      std::sort(image_.begin(), image_.end());
+      const double unit = image_.front().mass;  // the analysis rescales masses to a full cell
+      key_.clear();
+      if constexpr (dim > 1) key_.push_back(disc.cell_material(c).poisson);
+      for (const auto& entry : image_)
+        for (int a = 0; a < dim; ++a) key_.push_back(entry.x[a]);
+      for (const auto& entry : image_) key_.push_back(entry.mass / unit);
+      if (m == 0 || key_ < best_key_) best_key_.swap(key_);
+    }
+    key_.swap(best_key_);
   }
 
   stability::CellLayout key_layout() const {
@@ -199,6 +283,84 @@ class TimeStepControl : public LayoutQuantisation {
     const auto first = key_.begin() + key_prefix;
     return {std::vector<double>(first, first + dim * n),
             std::vector<double>(first + dim * n, key_.end()), dim};
+  }
+
+  // C* of entries_ (in cell c's material), through the cache.
+  double analysed(const Disc& disc, int c) {
+    fill_key(disc, c);
+    const auto it = cache_.find(key_);
+    if (it != cache_.end()) return it->second;
+    const auto start = std::chrono::steady_clock::now();
+    stability::AnalysisSetting setting = setting_;
+    if constexpr (dim > 1) setting.poisson = disc.cell_material(c).poisson;
+    const stability::CellLayout layout = key_layout();
+    const double courant = criterion_ == stability::Criterion::budget
+                               ? stability::budgeted_courant(layout, setting, budget_).courant
+                               : stability::admissible_courant(layout, setting, criterion_).courant;
+    cache_.emplace(key_, courant);
+    analysis_seconds_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return courant;
+  }
+
+  // The smallest C* over the corners of the lattice box holding cell c's layout (moving
+  // particles, at most kLatticeCoordinates coordinates), through the box cache.
+  double lattice_courant(const Disc& disc, const ParticleSet& particles, int c) {
+    fill_entries(disc, particles, c, 0.0);
+    const int n = static_cast<int>(entries_.size());
+    // The code: count (3 bits), the boxes (8 bits per coordinate), masses (16), Poisson (8).
+    std::uint64_t code = static_cast<std::uint64_t>(n);
+    std::array<int, kLatticeCoordinates> box{};
+    for (int k = 0; k < n; ++k)
+      for (int a = 0; a < dim; ++a) {
+        box[k * dim + a] = LayoutLattice::box(entries_[k].x[a]);
+        code = code << 8 | static_cast<std::uint64_t>(box[k * dim + a]);
+      }
+    const int masses = masses_index(), poisson = poisson_index(disc, c);
+    if (masses >= (1 << 16) || poisson >= (1 << 8)) {  // beyond the code: rounded as large ones
+      fill_entries(disc, particles, c, quantum_);
+      return analysed(disc, c);
+    }
+    code = code << 16 | static_cast<std::uint64_t>(masses);
+    code = code << 8 | static_cast<std::uint64_t>(poisson);
+    if (const auto it = boxes_.find(code); it != boxes_.end()) return it->second;
+    const std::vector<Entry> actual = entries_;
+    const auto& points = LayoutLattice::points();
+    double courant = std::numeric_limits<double>::infinity();
+    for (int corner = 0; corner < (1 << (n * dim)); ++corner) {
+      entries_ = actual;
+      for (int k = 0; k < n; ++k)
+        for (int a = 0; a < dim; ++a)
+          entries_[k].x[a] = points[box[k * dim + a] + ((corner >> (k * dim + a)) & 1)];
+      std::sort(entries_.begin(), entries_.end());
+      courant = std::min(courant, analysed(disc, c));
+    }
+    boxes_.emplace(code, courant);
+    return courant;
+  }
+
+  // 0 for equal masses, else 1 + the index of entries_' relative masses among those seen.
+  int masses_index() {
+    bool equal = true;
+    for (const auto& e : entries_) equal = equal && e.mass == entries_.front().mass;
+    if (equal) return 0;
+    relative_.clear();
+    for (const auto& e : entries_) relative_.push_back(e.mass / entries_.front().mass);
+    const auto it = std::find(masses_seen_.begin(), masses_seen_.end(), relative_);
+    if (it != masses_seen_.end()) return 1 + static_cast<int>(it - masses_seen_.begin());
+    masses_seen_.push_back(relative_);
+    return static_cast<int>(masses_seen_.size());
+  }
+  int poisson_index(const Disc& disc, int c) {
+    if constexpr (dim == 1) {
+      return 0;
+    } else {
+      const double nu = disc.cell_material(c).poisson;
+      const auto it = std::find(poisson_seen_.begin(), poisson_seen_.end(), nu);
+      if (it != poisson_seen_.end()) return static_cast<int>(it - poisson_seen_.begin());
+      poisson_seen_.push_back(nu);
+      return static_cast<int>(poisson_seen_.size()) - 1;
+    }
   }
 };
 

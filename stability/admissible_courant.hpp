@@ -31,6 +31,9 @@ struct CourantResult {
 // `crossings`, horizon / C (horizon counts the times the fastest wave crosses a cell, the steps
 // at Courant 1). Never more than kGrowthCap per step: strong instabilities are not budgeted.
 inline constexpr double kGrowthCap = 1e-4;
+// Growth per step at 1.01 times the L2 limit above which the limit is an instability's onset,
+// kept as it is: the budget extends only weak growth (round-off level just above the limit).
+inline constexpr double kOnsetGrowth = 1e-9;
 struct GrowthBudget {
   double factor = 1.1;
   double horizon = 1000;
@@ -43,17 +46,18 @@ struct GrowthBudget {
 };
 
 struct BudgetedCourant {
-  double courant = 0.0;   // the largest C such that every C' in (0, C] passes L2 or the budget
+  double courant = 0.0;   // the largest C <= max(1, strict) such that every C' in (0, C] passes
+                          // L2 or the budget
   double strict = 0.0;    // the L2 criterion's C*
   double growth = 0.0;    // max rho - 1 at `courant` (<= the allowance there)
-  bool bounded = true;    // false: nothing failed up to the search's maximum
+  bool bounded = true;    // the L2 result's (false: nothing failed up to its maximum)
   bool extended = false;  // above the L2 limit: the layout is weakly unstable
   int evaluations = 0;    // growth evaluations
 };
 
 // The budgeted Courant number from the L2 result `strict` of the same map. Above the L2 limit a C
-// passes when its growth is within the budget; a layout whose growth just above the limit
-// already exceeds the allowance (a strong instability) keeps the L2 limit.
+// passes when its growth is within the budget; a layout whose L2 limit is the onset of an
+// instability (growth above kOnsetGrowth or the allowance just above it) keeps the L2 limit.
 BudgetedCourant budgeted_courant(const OneStepMap& map, const CourantResult& strict,
                                  const GrowthBudget& budget);
 BudgetedCourant budgeted_courant(const CellLayout& layout, const AnalysisSetting& setting,

@@ -7,7 +7,15 @@
 namespace dgmpm::stability {
 
 const char* to_string(Criterion c) {
-  return c == Criterion::l2 ? "l2" : "monotone";
+  switch (c) {
+    case Criterion::l2:
+      return "l2";
+    case Criterion::monotone:
+      return "monotone";
+    case Criterion::budget:
+      return "budget";
+  }
+  return "?";
 }
 const char* to_string(Model m) {
   return m == Model::advection ? "advection" : "elastic";

@@ -11,7 +11,9 @@ namespace dgmpm::stability {
 
 using dgmpm::TimeScheme;  // lib's: the analysis steps with lib's integrators
 using dgmpm::to_string;
-enum class Criterion { l2, monotone };
+// l2: von Neumann; monotone: no new extrema; budget: l2, or above the l2 limit a growth within a
+// growth budget (admissible_courant.hpp, GrowthBudget), what the automatic time step uses.
+enum class Criterion { l2, monotone, budget };
 // advection: u_t + a u_x = 0, a > 0 (waves to +x); elastic: the 1D bar (waves both ways).
 enum class Model { advection, elastic };
 

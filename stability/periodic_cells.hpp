@@ -15,6 +15,7 @@
 #include <dgmpm/stepper.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -43,6 +44,13 @@ typename Physics::Material unit_material(const AnalysisSetting& s = {}) {
   return unit_material(s, static_cast<Physics*>(nullptr));
 }
 
+template <int dim>
+std::array<int, dim> filled(int n) {
+  std::array<int, dim> a;
+  a.fill(n);
+  return a;
+}
+
 template <class Physics>
 class PeriodicCells {
  public:
@@ -55,10 +63,14 @@ class PeriodicCells {
   // particle on a face in the cell above it, so the periodic configuration is the same, and the
   // labelling keeps the particle with the cell that holds it (the shortest stencil).
   PeriodicCells(const CellLayout& layout, int cells, const AnalysisSetting& setting = {})
+      : PeriodicCells(layout, filled<dim>(cells), setting) {}
+  // Cells per axis (a long-wave mode along one axis needs many cells there only).
+  PeriodicCells(const CellLayout& layout, const std::array<int, dim>& cells,
+                const AnalysisSetting& setting = {})
       : n_(layout.size()), setting_(setting) {
     validate(layout);
     for (int a = 0; a < dim; ++a) {
-      grid_.cells[a] = cells;
+      grid_.cells[a] = cells[a];
       grid_.periodic[a] = true;
     }
     if constexpr (dim == 2)
@@ -88,7 +100,7 @@ class PeriodicCells {
   PeriodicCells(const PeriodicCells&) = delete;  // the stepper refers to the members
   PeriodicCells& operator=(const PeriodicCells&) = delete;
 
-  int cells() const { return grid_.cells[0]; }  // per axis
+  int cells() const { return grid_.cells[0]; }  // along x
   int cell_index(const typename Grid<dim>::Index& k) const { return grid_.flatten(k); }
   // Smallest share of a cell's mass that one of its nodes holds, nodes that lib folds as massless
   // aside (every cell is the same: cell 0 speaks for all).

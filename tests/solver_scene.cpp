@@ -188,7 +188,8 @@ BOOST_AUTO_TEST_CASE(defaults) {
   BOOST_TEST((s.time.integrator == Integrator::euler));
   BOOST_TEST(!s.time.courant_auto);
   BOOST_TEST(s.time.courant == 1.0);
-  BOOST_TEST((s.time.criterion == Criterion::l2));
+  BOOST_TEST((s.time.criterion == Criterion::budget));
+  BOOST_TEST(s.time.growth_budget == 1.01);
   BOOST_TEST(s.time.safety == 1.0);
   BOOST_TEST(!s.particles_move);
   BOOST_TEST((s.formulation == dgmpm::Formulation::consistent));
@@ -243,7 +244,7 @@ BOOST_AUTO_TEST_CASE(refuses_unknown_keys) {
   doc = base();
   doc["time"]["foo"] = 1;
   check_refused(doc, {"time.foo: unknown key; allowed keys: end, integrator, courant, criterion, "
-                      "safety"});
+                      "growth_budget, safety"});
   doc = base();
   doc["grid"]["size"] = 6;
   check_refused(doc, {"grid.size: unknown key", "cell_size"});
@@ -508,7 +509,18 @@ BOOST_AUTO_TEST_CASE(refuses_unknown_names) {
   doc = base();
   doc["time"]["courant"] = "auto";
   doc["time"]["criterion"] = "linf";
-  check_refused(doc, {"time.criterion: value \"linf\" is not known", "l2, monotone"});
+  check_refused(doc, {"time.criterion: value \"linf\" is not known", "budget, l2, monotone"});
+  for (const json& g : {json(1.0), json(0.5), json("big"), json(-2)}) {
+    doc = base();
+    doc["time"]["courant"] = "auto";
+    doc["time"]["growth_budget"] = g;
+    check_refused(doc, {"time.growth_budget: value"});
+  }
+  doc = base();
+  doc["time"]["courant"] = "auto";
+  doc["time"]["criterion"] = "l2";
+  doc["time"]["growth_budget"] = 1.1;
+  check_refused(doc, {"time.growth_budget: value 1.1 is not allowed without the budget criterion"});
   doc = base();
   doc["boundaries"]["xmin"]["type"] = "absorbing";
   check_refused(doc, {"boundaries.xmin.type: value \"absorbing\" is not known",
