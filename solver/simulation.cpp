@@ -87,6 +87,7 @@ nlohmann::json RunSummary::to_json() const {
   j["setup_seconds"] = setup_seconds;
   j["stepping_seconds"] = stepping_seconds;
   j["time_step_seconds"] = time_step_seconds;
+  j["layout_analysis_seconds"] = layout_analysis_seconds;
   j["energy_initial"] = energy_initial;
   j["energy_final"] = energy_final;
   j["boundary_work"] = boundary_work;
@@ -800,7 +801,10 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   summary.stepping_seconds = std::chrono::duration<double>(clock::now() - start).count();
   summary.setup_seconds = setup_seconds_;
   summary.wall_seconds = summary.setup_seconds + summary.stepping_seconds;
-  if (time_control_) summary.time_step_seconds = time_control_->selection_seconds();
+  if (time_control_) {
+    summary.time_step_seconds = time_control_->selection_seconds();
+    summary.layout_analysis_seconds = time_control_->analysis_seconds();
+  }
   if (writes && root()) {
     if (commits)
       committed.commit();

@@ -36,6 +36,7 @@ struct RunSummary {
   // wall = set-up (the problem, the operators, the first time step) + stepping (the time loop);
   // time_step: choosing steps (layouts analysed included), part of both.
   double wall_seconds = 0, setup_seconds = 0, stepping_seconds = 0, time_step_seconds = 0;
+  double layout_analysis_seconds = 0;  // of time_step_seconds: analysing new layouts
   double courant_min = 0, courant_max = 0;  // c_max dt / h of the controlled steps
   double energy_initial = 0, energy_final = 0;
   double boundary_work = 0;  // work done on the body by boundary loads (traction, velocity)

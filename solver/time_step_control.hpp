@@ -38,7 +38,9 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <type_traits>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace dgmpm {
@@ -62,20 +64,48 @@ struct LayoutQuantisation {
 };
 
 // The lattice of local positions a moving particle's C* is bounded from: uniform with spacing
-// 1/64 where the distance d to the nearest node is at least 1/16, and geometric below, four
-// points per halving of d, down to 2^-13, then the node. Near a node C* varies like d (two
-// particles closing on a face from both sides) or faster: the geometric points keep a box's
-// relative width constant (1.19), and the box's smaller distance is one of its corners.
+// 1/Uniform where the distance d to the nearest node is at least 1/16, and geometric below,
+// PerOctave points per halving of d, down to 2^-13, then the node. Near a node C* varies like d
+// (two particles closing on a face from both sides) or faster: the geometric points keep a box's
+// relative width constant, and the box's smaller distance is one of its corners. 1D analyses are
+// cheap (a fine lattice: 1/64, four per octave, 131 points); a 2D one costs 10-50 ms, and moving
+// particles would visit thousands of fine corners: 1/16 and one per octave there (35 points).
+template <int PerOctave, int Uniform>
 struct LayoutLattice {
-  static constexpr int kPerOctave = 4, kOctaves = 9, kUniform = 64;
+  static constexpr int kPerOctave = PerOctave, kOctaves = 9, kUniform = Uniform;
   static constexpr int kNear = kPerOctave * kOctaves;  // geometric points per node
   static constexpr int kSide = 1 + kNear + kUniform / 2 - kUniform / 16 + 1;  // 0 .. 1/2
   static constexpr int kPoints = 2 * kSide - 1;                               // 0 .. 1, 1/2 once
+  static_assert(kPoints < 256, "a box index is one byte of the cache's code");
   // The lattice's points in increasing order, from 0 to 1.
-  static const std::array<double, kPoints>& points();
+  static const std::array<double, kPoints>& points() {
+    static const std::array<double, kPoints> lattice = [] {
+      std::array<double, kPoints> p{};
+      int k = 0;
+      p[k++] = 0.0;
+      for (int j = kNear; j >= 1; --j)
+        p[k++] = std::exp2(-4.0 - static_cast<double>(j) / kPerOctave);
+      for (int u = kUniform / 16; u <= kUniform / 2; ++u)
+        p[k++] = static_cast<double>(u) / kUniform;
+      for (int m = kSide - 2; m >= 0; --m) p[k++] = 1.0 - p[m];  // the mirror image, 1/2 once
+      return p;
+    }();
+    return lattice;
+  }
   // The index of the box [points[k], points[k + 1]] holding xi in [0, 1] (the last box for 1).
-  static int box(double xi);
+  static int box(double xi) {
+    constexpr int first_uniform = kNear + 1;  // the index of 1/16
+    if (xi >= 1.0 / 16 && xi < 15.0 / 16) {
+      const int u = static_cast<int>(xi * kUniform);  // exact: kUniform is a power of 2
+      return first_uniform + (u - kUniform / 16);
+    }
+    const auto& p = points();
+    const auto it = std::upper_bound(p.begin(), p.end(), xi);
+    return std::clamp(static_cast<int>(it - p.begin()) - 1, 0, kPoints - 2);
+  }
 };
+using FineLayoutLattice = LayoutLattice<4, 64>;
+using CoarseLayoutLattice = LayoutLattice<1, 16>;
 
 template <class Physics>
 class TimeStepControl : public LayoutQuantisation {
@@ -83,6 +113,7 @@ class TimeStepControl : public LayoutQuantisation {
   static constexpr int dim = Physics::dim;
   using Disc = Discretisation<Physics>;
   using ParticleSet = Particles<dim, Physics::n_comp>;
+  using Lattice = std::conditional_t<dim == 1, FineLayoutLattice, CoarseLayoutLattice>;
 
   // `max_wave_speed`: of the materials the particles carry (the growth budget's horizon is the
   // run's length in crossings of the smallest cell at that speed). Throws scene::SceneError for a
@@ -185,15 +216,19 @@ class TimeStepControl : public LayoutQuantisation {
   // times min(1, fill).
   double cell_courant(const Disc& disc, const ParticleSet& particles, int c) {
     const double small_cell = std::min(1.0, disc.fill(c));
-    if (lone_shared(disc, c) && lone_particle_courant_ > 0.0)
-      return small_cell * lone_particle_courant_;  // the common case, without building a key
+    if (lone_shared(disc, c)) {  // the common case, without building a key
+      const double nu = poisson_of(disc, c);
+      for (const auto& [n, courant] : lone_courant_)
+        if (n == nu) return small_cell * courant;
+      fill_entries(disc, particles, c, quantum_);
+      lone_courant_.emplace_back(nu, analysed(disc, c));
+      return small_cell * lone_courant_.back().second;
+    }
     const int n = disc.cell_end(c) - disc.cell_begin(c);
-    if (lattice_ && n * dim <= kLatticeCoordinates && !lone_shared(disc, c))
+    if (lattice_ && n * dim <= kLatticeCoordinates)
       return small_cell * lattice_courant(disc, particles, c);
     fill_entries(disc, particles, c, quantum_);
-    const double courant = analysed(disc, c);
-    if (lone_shared(disc, c) && dim == 1) lone_particle_courant_ = courant;  // 2D: per Poisson
-    return small_cell * courant;
+    return small_cell * analysed(disc, c);
   }
 
  private:
@@ -218,17 +253,26 @@ class TimeStepControl : public LayoutQuantisation {
   // Key: (2D: Poisson's ratio), positions (dim per particle, sorted), then relative masses; the
   // smallest over the layout's mirror images.
   std::map<std::vector<double>, double> cache_;
-  double lone_particle_courant_ = -1;  // the one-particle entry, once analysed (when shared)
+  // The one-particle entries, once analysed (when shared): per Poisson ratio (2D).
+  std::vector<std::pair<double, double>> lone_courant_;
   std::vector<Entry> entries_, image_;
   std::vector<double> key_, best_key_;
   static constexpr int key_prefix = dim > 1 ? 1 : 0;  // Poisson's ratio in 2D
   // Lattice boxes already bounded: a code of the cell's particle count, lattice boxes, masses
   // (equal, or an index into masses_seen_) and Poisson's ratio (index into poisson_seen_).
   std::unordered_map<std::uint64_t, double> boxes_;
+  std::vector<std::uint64_t> last_code_;  // per cell: its lone particle's last box code (0: none)
+  std::vector<double> last_courant_;      // and that box's C*
   std::vector<std::vector<double>> masses_seen_;
   std::vector<double> poisson_seen_;
   std::vector<double> relative_;
 
+  static double poisson_of(const Disc& disc, int c) {
+    if constexpr (dim == 1)
+      return 0.0;
+    else
+      return disc.cell_material(c).poisson;
+  }
   bool lone_shared(const Disc& disc, int c) const {
     return disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_;
   }
@@ -306,6 +350,24 @@ class TimeStepControl : public LayoutQuantisation {
   // The smallest C* over the corners of the lattice box holding cell c's layout (moving
   // particles, at most kLatticeCoordinates coordinates), through the box cache.
   double lattice_courant(const Disc& disc, const ParticleSet& particles, int c) {
+    if (disc.cell_end(c) - disc.cell_begin(c) == 1) {  // lone (2D RK2): no sort, equal masses
+      const auto xi = disc.particle_local(disc.entry_particle(disc.cell_begin(c)));
+      std::uint64_t code = 1;
+      for (int a = 0; a < dim; ++a)
+        code = code << 8 | static_cast<std::uint64_t>(Lattice::box(xi[a]));
+      const int poisson = poisson_index(disc, c);  // the general code's, masses index 0
+      code = code << 24 | static_cast<std::uint64_t>(poisson);
+      // Particles cross a box every few steps at most: the cell's last box first.
+      if (static_cast<int>(last_code_.size()) != disc.num_cells()) {
+        last_code_.assign(disc.num_cells(), 0);
+        last_courant_.assign(disc.num_cells(), 0.0);
+      }
+      if (last_code_[c] == code) return last_courant_[c];
+      if (const auto it = boxes_.find(code); poisson < (1 << 8) && it != boxes_.end()) {
+        last_code_[c] = code;
+        return last_courant_[c] = it->second;
+      }
+    }
     fill_entries(disc, particles, c, 0.0);
     const int n = static_cast<int>(entries_.size());
     // The code: count (3 bits), the boxes (8 bits per coordinate), masses (16), Poisson (8).
@@ -313,7 +375,7 @@ class TimeStepControl : public LayoutQuantisation {
     std::array<int, kLatticeCoordinates> box{};
     for (int k = 0; k < n; ++k)
       for (int a = 0; a < dim; ++a) {
-        box[k * dim + a] = LayoutLattice::box(entries_[k].x[a]);
+        box[k * dim + a] = Lattice::box(entries_[k].x[a]);
         code = code << 8 | static_cast<std::uint64_t>(box[k * dim + a]);
       }
     const int masses = masses_index(), poisson = poisson_index(disc, c);
@@ -325,7 +387,7 @@ class TimeStepControl : public LayoutQuantisation {
     code = code << 8 | static_cast<std::uint64_t>(poisson);
     if (const auto it = boxes_.find(code); it != boxes_.end()) return it->second;
     const std::vector<Entry> actual = entries_;
-    const auto& points = LayoutLattice::points();
+    const auto& points = Lattice::points();
     double courant = std::numeric_limits<double>::infinity();
     for (int corner = 0; corner < (1 << (n * dim)); ++corner) {
       entries_ = actual;

@@ -49,7 +49,8 @@ struct BudgetedCourant {
   double courant = 0.0;   // the largest C <= max(1, strict) such that every C' in (0, C] passes
                           // L2 or the budget
   double strict = 0.0;    // the L2 criterion's C*
-  double growth = 0.0;    // max rho - 1 at `courant` (<= the allowance there)
+  double growth = 0.0;    // max rho - 1 at `courant` (<= the allowance there); 0 when the L2
+                          // limit is kept (where it is within the L2 tolerance)
   bool bounded = true;    // the L2 result's (false: nothing failed up to its maximum)
   bool extended = false;  // above the L2 limit: the layout is weakly unstable
   int evaluations = 0;    // growth evaluations

@@ -94,8 +94,9 @@ RunSummary run_into(const scene::Scene& scene, const fs::path& dir, RunOptions o
 // that give each double back exactly.
 std::string numbers(const RunSummary& s) {
   json j = s.to_json();
-  for (const char* k : {"wall_seconds", "setup_seconds", "stepping_seconds", "time_step_seconds",
-                        "files", "restarted_from", "warnings", "layouts_analysed"})
+  for (const char* k :
+       {"wall_seconds", "setup_seconds", "stepping_seconds", "time_step_seconds",
+        "layout_analysis_seconds", "files", "restarted_from", "warnings", "layouts_analysed"})
     j.erase(k);
   return j.dump();
 }

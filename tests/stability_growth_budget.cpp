@@ -97,7 +97,7 @@ BOOST_AUTO_TEST_CASE(strict_limits_are_kept_where_nothing_is_weakly_unstable) {
       BOOST_TEST(b.courant == strict.courant);
       BOOST_TEST(b.strict == strict.courant);
       BOOST_TEST(!b.extended);
-      BOOST_TEST(b.evaluations == 1);
+      BOOST_TEST(b.evaluations <= 1);
     }
   }
 }
