@@ -424,6 +424,13 @@ void add_courant_command(CLI::App& app, std::ostream& out, std::ostream& err,
                        "only: 1D, or 2D advection)")
            ->check(CLI::IsMember({"l2", "monotone"}))
            ->capture_default_str());
+  keep(sub->add_option("--steps", options->steps,
+                       "Also the growth-budgeted Courant number for a run of this many steps: the "
+                       "largest C at which no mode grows by more than --budget over them (the "
+                       "strict L2 value where the limit is an instability's onset)"));
+  keep(sub->add_option("--budget", options->budget,
+                       "With --steps: the most a mode may grow over the run (a factor > 1)")
+           ->capture_default_str());
   keep(sub->add_option("--model", options->model,
                        "elastic (1D bar; 2D plane strain, C = c_p dt / min(dx, dy)) or advection "
                        "(1D u_t + u_x = 0; 2D u_t + a u_x + b u_y = 0, C = dt max(a/dx, b/dy))")
