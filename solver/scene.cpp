@@ -498,8 +498,8 @@ class Parser {
 
   TimeSpec parse_time(const json& t) const {
     check_object(t, "time",
-                 {"end", "integrator", "courant", "criterion", "growth_budget", "safety",
-                  "blow_up_check", "blow_up_factor", "max_steps"});
+                 {"end", "integrator", "courant", "criterion", "growth_budget", "check_scene_every",
+                  "safety", "blow_up_check", "blow_up_factor", "max_steps"});
     TimeSpec time;
     time.end = positive(require(t, "time", "end", "a number > 0"), "time.end");
     if (const json* i = find(t, "integrator"))
@@ -529,6 +529,16 @@ class Parser {
       time.growth_budget = number(*g, "time.growth_budget", allowed);
       if (!(time.growth_budget > 1 && std::isfinite(time.growth_budget)))
         not_allowed("time.growth_budget", *g, allowed);
+    }
+    if (const json* g = find(t, "check_scene_every")) {
+      const std::string allowed = "an integer number of steps >= 1 (0: never)";
+      if (!time.courant_auto)
+        refuse("time.check_scene_every", *g, "is not allowed without \"courant\": \"auto\"",
+               only_auto);
+      const double every = number(*g, "time.check_scene_every", allowed);
+      if (!(every >= 0 && every <= 1e12 && every == std::floor(every)))
+        not_allowed("time.check_scene_every", *g, allowed);
+      time.check_scene_every = static_cast<long>(every);
     }
     if (const json* s = find(t, "safety")) {
       if (!time.courant_auto)

@@ -72,6 +72,9 @@ struct TimeSpec {
   // auto only: budget (l2, or a growth within growth_budget over the run), l2 or monotone.
   Criterion criterion = Criterion::budget;
   double growth_budget = 1.01;
+  // auto only: every this many steps (0: never) the whole scene's frozen operator is checked at
+  // the chosen step, which is halved until its spectral radius is at most 1 (serial runs).
+  long check_scene_every = 0;
   double safety = 1.0;  // auto only
   // A run stops (exit 1) when its energy exceeds blow_up_factor times (initial energy + work of
   // the loads), unless blow_up_check is false.

@@ -1,5 +1,6 @@
 #include "solver/scene_spectrum.hpp"
 
+#include "solver/frozen_spectrum.hpp"
 #include "solver/problem.hpp"
 #include "solver/simulation.hpp"
 
@@ -28,22 +29,6 @@
 namespace dgmpm {
 
 namespace {
-
-// The scene's operator with homogeneous boundary data: a traction side acts as a free one, a
-// velocity side as a fixed one (their linear parts); both reflect, as void cells do, so the
-// operator is normal enough for its spectrum to speak.
-template <int Dim>
-Boundaries<Dim> homogeneous(const Boundaries<Dim>& b) {
-  Boundaries<Dim> h = b;
-  for (auto& axis : h)
-    for (auto& side : axis)
-      for (auto& s : side.segments) {
-        if (s.condition.kind == BoundaryKind::traction) s.condition.kind = BoundaryKind::free;
-        if (s.condition.kind == BoundaryKind::velocity) s.condition.kind = BoundaryKind::fixed;
-        s.condition.value = {};
-      }
-  return h;
-}
 
 constexpr int kLargeScene = 2000;  // unknowns
 

@@ -1,6 +1,7 @@
 #include "solver/simulation.hpp"
 
 #include "solver/checkpoint.hpp"
+#include "solver/frozen_spectrum.hpp"
 #include "solver/mpm.hpp"
 #include "solver/output.hpp"
 #include "solver/vtk_output.hpp"
@@ -144,6 +145,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
     time_control_.emplace(scene_, max_speed_);
     dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
     if (!time_control_->automatic()) warn_if_above_admissible();
+    if (scene_.time.check_scene_every > 0) check_scene(0, 0.0);
     if (scene_.formulation == Formulation::paper) warn_if_overfull_cell(0, 0.0);
     if (dim > 1 && scene_.flux == FluxScheme::ctu && scene_.time.integrator == TimeScheme::rk2)
       warnings_.push_back(
@@ -168,11 +170,47 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
   setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The whole scene's operator, frozen, at the chosen step: halved until its spectral radius is at
+// most 1 (to the eigensolver's accuracy), the factor kept until the next check. What the
+// per-layout analysis cannot see (a configuration no cell's periodic model holds) is caught here.
+template <class Physics>
+void Simulation<Physics>::check_scene(long step, double t) {
+  constexpr double kTolerance = 1e-6;  // ARPACK's rho: to about 1e-8 (1e-7 on large scenes)
+  constexpr int kHalvings = 40;
+  const double h = problem_.grid.cell_size.minCoeff();
+  double factor = 1.0, first = 0.0, rho = 0.0;
+  for (int k = 0; k <= kHalvings; ++k) {
+    rho =
+        frozen_spectral_radius<Physics>(problem_.grid, problem_.boundaries, problem_.particles,
+                                        problem_.materials, stepper_options(scene_), factor * dt_);
+    if (k == 0) first = rho;
+    if (rho <= 1 + kTolerance) break;
+    factor *= 0.5;
+  }
+  scene_guard_factor_ = factor;
+  if (factor == 1.0) return;
+  dt_ *= factor;
+  if (scene_guard_warned_) return;
+  scene_guard_warned_ = true;
+  std::ostringstream s;
+  s << format_step(step, t) << ": the whole scene's operator has spectral radius " << first
+    << " at the automatic step (C = " << dt_ / factor * max_speed_ / h
+    << "); the step is scaled by " << factor << " (C = " << dt_ * max_speed_ / h
+    << ", spectral radius " << rho
+    << ") until the next check (time.check_scene_every; warned once)";
+  warnings_.push_back(s.str());
+}
+
 // Set up on the whole scene (so the time step and the warnings are the serial run's), then
 // keeps this rank's window: its particles, its grid and boundaries, a stepper on them.
 template <class Physics>
 void Simulation<Physics>::distribute(Communicator& ranks) {
   const std::string count = std::to_string(ranks.size()) + " MPI ranks";
+  if (scene_.time.check_scene_every > 0)
+    throw scene::SceneError(scene_.source + ": time.check_scene_every: value " +
+                            std::to_string(scene_.time.check_scene_every) +
+                            " is not available on " + count +
+                            " (the whole scene's operator is analysed on one rank); allowed: 0");
   if (mpm_)
     throw scene::SceneError(scene_.source + ": method: value \"" + scene::to_string(scene_.method) +
                             "\" runs on one rank; allowed on " + count + ": \"dgmpm\"");
@@ -302,6 +340,11 @@ void Simulation<Physics>::step(double dt) {
         if (time_control_->automatic()) {
           dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), particles);
           if (halo_) dt_ = halo_->comm().min(dt_);  // every cell is some rank's: exact
+          const long every = scene_.time.check_scene_every;
+          if (every > 0 && (steps_ + 1) % every == 0)
+            check_scene(steps_ + 1, time_ + dt);
+          else
+            dt_ *= scene_guard_factor_;
         }
       } else if (halo_) {
         halo_->exchange_states(particles);
@@ -877,6 +920,8 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
       {"mpm_load_work", bits(mpm_ ? mpm_->load_work() : 0.0)},
       {"since_growth_check", since_growth_check_},
       {"overfull_warned", overfull_warned_},
+      {"scene_guard_factor", bits(scene_guard_factor_)},
+      {"scene_guard_warned", scene_guard_warned_},
       {"warnings", warnings_},
       {"progress",
        {{"outputs", d.outputs},
@@ -965,6 +1010,8 @@ void Simulation<Physics>::restore(const std::string& path) {
     initial_energy_ = u(h, "initial_energy");
     since_growth_check_ = h.at("since_growth_check").get<int>();
     overfull_warned_ = h.at("overfull_warned").get<bool>();
+    scene_guard_factor_ = u(h, "scene_guard_factor");
+    scene_guard_warned_ = h.at("scene_guard_warned").get<bool>();
     warnings_ = h.at("warnings").get<std::vector<std::string>>();
     p = std::move(restored);
     reference_position_ = std::move(reference);

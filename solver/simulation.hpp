@@ -36,7 +36,7 @@ struct RunSummary {
   // wall = set-up (the problem, the operators, the first time step) + stepping (the time loop);
   // time_step: choosing steps (layouts analysed included), part of both.
   double wall_seconds = 0, setup_seconds = 0, stepping_seconds = 0, time_step_seconds = 0;
-  double layout_analysis_seconds = 0;  // of time_step_seconds: analysing new layouts
+  double layout_analysis_seconds = 0;       // of time_step_seconds: analysing new layouts
   double courant_min = 0, courant_max = 0;  // c_max dt / h of the controlled steps
   double energy_initial = 0, energy_final = 0;
   double boundary_work = 0;  // work done on the body by boundary loads (traction, velocity)
@@ -166,6 +166,8 @@ class Simulation final : public SimulationBase {
   Energy particle_energy(int i) const;
   void warn_if_above_admissible();
   void warn_if_overfull_cell(long step, double t);
+  // time.check_scene_every: halves dt_ until the frozen scene's spectral radius is at most 1.
+  void check_scene(long step, double t);
   double load_power() const;
   void write_particles(const std::string& path) const;
   void write_vtu(std::size_t k, const std::string& directory, const std::string& name) const;
@@ -212,6 +214,8 @@ class Simulation final : public SimulationBase {
   bool loaded_ = false;  // some boundary does work (traction or velocity)
   long steps_ = 0;
   bool overfull_warned_ = false;
+  double scene_guard_factor_ = 1.0;  // what the last scene check scaled the automatic dt by
+  bool scene_guard_warned_ = false;
   double initial_energy_ = 0, most_work_ = 0;  // for the blow-up check
   int since_growth_check_ = 0;
 };

@@ -244,7 +244,7 @@ BOOST_AUTO_TEST_CASE(refuses_unknown_keys) {
   doc = base();
   doc["time"]["foo"] = 1;
   check_refused(doc, {"time.foo: unknown key; allowed keys: end, integrator, courant, criterion, "
-                      "growth_budget, safety"});
+                      "growth_budget, check_scene_every, safety"});
   doc = base();
   doc["grid"]["size"] = 6;
   check_refused(doc, {"grid.size: unknown key", "cell_size"});
@@ -521,6 +521,20 @@ BOOST_AUTO_TEST_CASE(refuses_unknown_names) {
   doc["time"]["criterion"] = "l2";
   doc["time"]["growth_budget"] = 1.1;
   check_refused(doc, {"time.growth_budget: value 1.1 is not allowed without the budget criterion"});
+  for (const json& every : {json(-1), json(2.5), json("often"), json(1e13)}) {
+    doc = base();
+    doc["time"]["courant"] = "auto";
+    doc["time"]["check_scene_every"] = every;
+    check_refused(doc, {"time.check_scene_every: value", "an integer number of steps >= 1"});
+  }
+  doc = base();
+  doc["time"]["check_scene_every"] = 10;
+  check_refused(doc,
+                {"time.check_scene_every: value 10 is not allowed without \"courant\": \"auto\""});
+  doc = base();
+  doc["time"]["courant"] = "auto";
+  doc["time"]["check_scene_every"] = 25;
+  BOOST_TEST(parse_scene(doc).time.check_scene_every == 25);
   doc = base();
   doc["boundaries"]["xmin"]["type"] = "absorbing";
   check_refused(doc, {"boundaries.xmin.type: value \"absorbing\" is not known",
