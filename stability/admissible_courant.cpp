@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 namespace dgmpm::stability {
@@ -168,11 +169,20 @@ BudgetedCourant budgeted_courant(const OneStepMap& map, const CourantResult& str
   // nothing there: 1e-4 per step for two particles, 2e-2 for a centred one) is not budgeted; a
   // weak growth, present at every C and vetoed by L2, is (1e-13 there for an off-centre particle
   // with the paper's RK2).
-  // The mode that failed first in the L2 search usually shows it in one evaluation.
+  // The mode that failed first in the L2 search, or the shortest waves, usually show it in a
+  // few symbol evaluations (a growth search costs hundreds).
   const double above = strict.courant * 1.01;
-  if (l2.spectral_radius(above, strict.critical_theta, strict.critical_theta_y) - 1 >
-      kOnsetGrowth)
-    return r;
+  constexpr double pi = std::numbers::pi;
+  const double probes[][2] = {{strict.critical_theta, strict.critical_theta_y},
+                              {pi, 0.0},
+                              {0.0, pi},
+                              {pi, pi},
+                              {pi, 0.5 * pi},
+                              {0.5 * pi, pi}};
+  for (const auto& t : probes) {
+    if (map.setting.dim == 1 && t[1] != 0.0) continue;
+    if (l2.spectral_radius(above, t[0], t[1]) - 1 > kOnsetGrowth) return r;
+  }
   const auto [excess, growth_above] = over(above);
   if (excess > 0.0 || growth_above > kOnsetGrowth) return r;
   // Scan upward from the L2 limit (the scan's step: what fails between two points is not seen,
