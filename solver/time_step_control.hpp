@@ -335,16 +335,23 @@ class TimeStepControl : public LayoutQuantisation {
     const auto it = cache_.find(key_);
     if (it != cache_.end()) return it->second;
     const auto start = std::chrono::steady_clock::now();
-    stability::AnalysisSetting setting = setting_;
-    if constexpr (dim > 1) setting.poisson = disc.cell_material(c).poisson;
-    const stability::CellLayout layout = key_layout();
-    const double courant = criterion_ == stability::Criterion::budget
-                               ? stability::budgeted_courant(layout, setting, budget_).courant
-                               : stability::admissible_courant(layout, setting, criterion_).courant;
+    const double courant = analyse(key_layout(), setting_of(disc, c));
     cache_.emplace(key_, courant);
     analysis_seconds_ +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return courant;
+  }
+
+  stability::AnalysisSetting setting_of(const Disc& disc, int c) const {
+    stability::AnalysisSetting setting = setting_;
+    if constexpr (dim > 1) setting.poisson = disc.cell_material(c).poisson;
+    return setting;
+  }
+  double analyse(const stability::CellLayout& layout,
+                 const stability::AnalysisSetting& setting) const {
+    return criterion_ == stability::Criterion::budget
+               ? stability::budgeted_courant(layout, setting, budget_).courant
+               : stability::admissible_courant(layout, setting, criterion_).courant;
   }
 
   // The smallest C* over the corners of the lattice box holding cell c's layout (moving
@@ -386,17 +393,38 @@ class TimeStepControl : public LayoutQuantisation {
     code = code << 16 | static_cast<std::uint64_t>(masses);
     code = code << 8 | static_cast<std::uint64_t>(poisson);
     if (const auto it = boxes_.find(code); it != boxes_.end()) return it->second;
+    // The corners not analysed yet, analysed on threads (each analysis gives the same answer
+    // whatever the thread count), then the smallest over all corners.
     const std::vector<Entry> actual = entries_;
     const auto& points = Lattice::points();
-    double courant = std::numeric_limits<double>::infinity();
-    for (int corner = 0; corner < (1 << (n * dim)); ++corner) {
+    const int corners = 1 << (n * dim);
+    std::vector<std::vector<double>> keys(corners), missing;
+    std::vector<stability::CellLayout> layouts;
+    for (int corner = 0; corner < corners; ++corner) {
       entries_ = actual;
       for (int k = 0; k < n; ++k)
         for (int a = 0; a < dim; ++a)
           entries_[k].x[a] = points[box[k * dim + a] + ((corner >> (k * dim + a)) & 1)];
       std::sort(entries_.begin(), entries_.end());
-      courant = std::min(courant, analysed(disc, c));
+      fill_key(disc, c);
+      keys[corner] = key_;
+      if (!cache_.count(key_) && std::find(missing.begin(), missing.end(), key_) == missing.end()) {
+        missing.push_back(key_);
+        layouts.push_back(key_layout());
+      }
     }
+    if (!missing.empty()) {
+      const auto start = std::chrono::steady_clock::now();
+      const stability::AnalysisSetting setting = setting_of(disc, c);
+      std::vector<double> found(missing.size());
+#pragma omp parallel for schedule(dynamic) if (missing.size() > 1)
+      for (std::size_t i = 0; i < missing.size(); ++i) found[i] = analyse(layouts[i], setting);
+      for (std::size_t i = 0; i < missing.size(); ++i) cache_.emplace(missing[i], found[i]);
+      analysis_seconds_ +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    double courant = std::numeric_limits<double>::infinity();
+    for (const auto& key : keys) courant = std::min(courant, cache_.at(key));
     boxes_.emplace(code, courant);
     return courant;
   }
