@@ -4,6 +4,7 @@
 #define BOOST_TEST_MODULE stability_two_dimensions
 #include <boost/test/unit_test.hpp>
 
+#include "common/analysis_settings.hpp"
 #include "stability/admissible_courant.hpp"
 #include "stability/criteria.hpp"
 #include "stability/periodic_cells.hpp"
@@ -15,48 +16,14 @@
 
 using namespace dgmpm;
 using namespace dgmpm::stability;
+using namespace dgmpm::test;
 
 namespace {
-
-AnalysisSetting advection(double a, double b, FluxScheme flux, TimeScheme time) {
-  AnalysisSetting s;
-  s.dim = 2;
-  s.model = Model::advection;
-  s.speed_x = a;
-  s.speed_y = b;
-  s.flux = flux;
-  s.time = time;
-  return s;
-}
-
-AnalysisSetting elastic(double nu, FluxScheme flux, TimeScheme time) {
-  AnalysisSetting s;
-  s.dim = 2;
-  s.model = Model::elastic;
-  s.poisson = nu;
-  s.flux = flux;
-  s.time = time;
-  return s;
-}
-
-// The same with the founding paper's formulation (pseudo-stiffness summed over the particles,
-// RK2's stages undamped).
-AnalysisSetting paper(AnalysisSetting s) {
-  s.formulation = Formulation::paper;
-  return s;
-}
-
-CellLayout points(std::vector<double> xy, std::vector<double> masses = {}) {
-  return CellLayout{std::move(xy), std::move(masses), 2};
-}
 
 double limit(const CellLayout& layout, const AnalysisSetting& s,
              Criterion criterion = Criterion::l2) {
   return admissible_courant(layout, s, criterion).courant;
 }
-
-const FluxScheme dcu = FluxScheme::dcu, ctu = FluxScheme::ctu;
-const TimeScheme euler = TimeScheme::euler, rk2 = TimeScheme::rk2;
 
 }  // namespace
 
