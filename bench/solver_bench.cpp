@@ -135,8 +135,9 @@ void run_solver_benchmark(std::ostream& out, const std::vector<int>& particle_co
                         {"... same, 2 ppc", "dgmpm", "euler", true, true, 2},
                         {"mpm-usl flip fixed", "mpm-usl", "euler", false, false}};
   std::vector<AutoRun> auto_runs;
-  out << "solver throughput (" << omp_get_max_threads()
-      << " thread(s) for grids of 4096 cells or more; one particle per cell unless said, "
+  out << "solver throughput (" << omp_get_max_threads() << " thread(s) for grids of "
+      << DGOperator<ElasticBar>::kThreadedCells
+      << " cells or more; one particle per cell unless said, "
          "periodic bar)\n";
   out << std::left << std::setw(26) << "case" << std::right << std::setw(12) << "particles"
       << std::setw(22) << "particle-steps/s" << '\n';
@@ -241,8 +242,9 @@ void run_scaling_benchmark(std::ostream& out, const std::vector<int>& particle_c
 
 void run_plate_benchmark(std::ostream& out, const std::vector<int>& particle_counts,
                          double seconds) {
-  out << "2D plate throughput (" << omp_get_max_threads()
-      << " thread(s) for grids of 4096 cells or more; DGMPM, Courant 0.5) and heap bytes per "
+  out << "2D plate throughput (" << omp_get_max_threads() << " thread(s) for grids of "
+      << DGOperator<ElasticBar>::kThreadedCells
+      << " cells or more; DGMPM, Courant 0.5) and heap bytes per "
          "particle\n";
   out << std::left << std::setw(6) << "flux" << std::setw(7) << "time" << std::setw(5) << "ppc"
       << std::right << std::setw(12) << "particles" << std::setw(20) << "particle-steps/s"

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <omp.h>
@@ -121,7 +122,12 @@ int run(const RunArguments& args) {
     return code;
   };
   try {
-    apply_threads(args.threads);
+    // Several ranks share the node's cores: one thread each unless asked (threads of ranks
+    // sharing a core spin at the sweeps' barriers and slow the run many times over).
+    if (distributed && args.threads == 0 && !std::getenv("OMP_NUM_THREADS"))
+      apply_threads(1);
+    else
+      apply_threads(args.threads);
     RunOptions options;
     if (!args.checkpoint_every.empty()) parse_checkpoint_every(args.checkpoint_every, options);
     options.checkpoint_keep = args.checkpoint_keep;

@@ -129,6 +129,7 @@ SceneSpectrumResult analyse(const scene::Scene& scene, double tolerance) {
   options.courant_tolerance = large ? 5e-3 : 1e-6;
   options.significant_digits = large ? 3 : 6;
   options.margin_tolerance = tolerance;
+  options.bisect = true;  // rho - 1 is 0 up to C*
   // A progress line on a terminal once the search has taken 2 s (ARPACK on a large scene can take
   // minutes).
   const bool terminal = ::isatty(STDERR_FILENO);

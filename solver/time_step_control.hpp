@@ -155,11 +155,36 @@ class TimeStepControl : public LayoutQuantisation {
     const auto start = std::chrono::steady_clock::now();
     const double h = grid.cell_size.minCoeff();
     double dt = std::numeric_limits<double>::infinity();
-    for (int c = 0; c < disc.num_cells(); ++c) {
-      if (!disc.occupied(c)) continue;
-      const double speed = Physics::max_wave_speed(disc.cell_material(c));
-      const double cs = automatic_ ? safety_ * cell_courant(disc, particles, c) : courant_;
-      dt = std::min(dt, cs * h / speed);
+    if (!automatic_) {
+      for (int c = 0; c < disc.num_cells(); ++c)
+        if (disc.occupied(c))
+          dt = std::min(dt, courant_ * h / Physics::max_wave_speed(disc.cell_material(c)));
+    } else {
+      // Cells whose C* a cache holds (most, once the run has started) on threads; the others,
+      // which analyse and fill the caches, after them in cell order.
+      if (static_cast<int>(last_code_.size()) != disc.num_cells()) {
+        last_code_.assign(disc.num_cells(), 0);
+        last_courant_.assign(disc.num_cells(), 0.0);
+      }
+      misses_.clear();
+      const int cells = disc.num_cells();
+#pragma omp parallel for reduction(min : dt) schedule(static)
+      for (int c = 0; c < cells; ++c) {
+        if (!disc.occupied(c)) continue;
+        const double cs = cached_courant(disc, c);
+        if (std::isnan(cs)) {
+#pragma omp critical(dgmpm_time_step_misses)
+          misses_.push_back(c);
+          continue;
+        }
+        const double speed = Physics::max_wave_speed(disc.cell_material(c));
+        dt = std::min(dt, safety_ * std::min(1.0, disc.fill(c)) * cs * h / speed);
+      }
+      std::sort(misses_.begin(), misses_.end());
+      for (const int c : misses_) {
+        const double speed = Physics::max_wave_speed(disc.cell_material(c));
+        dt = std::min(dt, safety_ * cell_courant(disc, particles, c) * h / speed);
+      }
     }
     selection_seconds_ +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -200,9 +225,15 @@ class TimeStepControl : public LayoutQuantisation {
 
   // Distinct layouts analysed so far (cache misses), and the seconds spent analysing them and
   // choosing time steps (analyses included).
-  int layouts_analysed() const { return static_cast<int>(cache_.size()); }
-  double analysis_seconds() const { return analysis_seconds_; }
-  double selection_seconds() const { return selection_seconds_; }
+  int layouts_analysed() const {
+    return static_cast<int>(cache_.size() + corner_cache_.size());
+  }
+  double analysis_seconds() const {
+    return analysis_seconds_;
+  }
+  double selection_seconds() const {
+    return selection_seconds_;
+  }
 
   // The layout of cell c, rounded as for fixed particles or large layouts: positions sorted,
   // masses relative to the first one.
@@ -216,12 +247,11 @@ class TimeStepControl : public LayoutQuantisation {
   // times min(1, fill).
   double cell_courant(const Disc& disc, const ParticleSet& particles, int c) {
     const double small_cell = std::min(1.0, disc.fill(c));
-    if (lone_shared(disc, c)) {  // the common case, without building a key
-      const double nu = poisson_of(disc, c);
-      for (const auto& [n, courant] : lone_courant_)
-        if (n == nu) return small_cell * courant;
+    if (const double cached = cached_courant(disc, c); !std::isnan(cached))
+      return small_cell * cached;
+    if (lone_shared(disc, c)) {
       fill_entries(disc, particles, c, quantum_);
-      lone_courant_.emplace_back(nu, analysed(disc, c));
+      lone_courant_.emplace_back(poisson_of(disc, c), analysed(disc, c));
       return small_cell * lone_courant_.back().second;
     }
     const int n = disc.cell_end(c) - disc.cell_begin(c);
@@ -253,6 +283,8 @@ class TimeStepControl : public LayoutQuantisation {
   // Key: (2D: Poisson's ratio), positions (dim per particle, sorted), then relative masses; the
   // smallest over the layout's mirror images.
   std::map<std::vector<double>, double> cache_;
+  // Lattice corners, analysed at kCornerOptions' resolution (same keys).
+  std::map<std::vector<double>, double> corner_cache_;
   // The one-particle entries, once analysed (when shared): per Poisson ratio (2D).
   std::vector<std::pair<double, double>> lone_courant_;
   std::vector<Entry> entries_, image_;
@@ -266,6 +298,7 @@ class TimeStepControl : public LayoutQuantisation {
   std::vector<std::vector<double>> masses_seen_;
   std::vector<double> poisson_seen_;
   std::vector<double> relative_;
+  std::vector<int> misses_;  // time_step: cells no cache held
 
   static double poisson_of(const Disc& disc, int c) {
     if constexpr (dim == 1)
@@ -275,6 +308,47 @@ class TimeStepControl : public LayoutQuantisation {
   }
   bool lone_shared(const Disc& disc, int c) const {
     return disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_;
+  }
+
+  // C* of a lone particle's cell when a cache holds it, without building a key (the common
+  // case), else NaN. Reads the caches and writes only cell c's memo: callable from threads.
+  double cached_courant(const Disc& disc, int c) {
+    if (disc.cell_end(c) - disc.cell_begin(c) != 1) return kMiss;
+    if (lone_particle_shared_) {
+      const double nu = poisson_of(disc, c);
+      for (const auto& [n, courant] : lone_courant_)
+        if (n == nu) return courant;
+      return kMiss;
+    }
+    if (!lattice_ || static_cast<int>(last_code_.size()) != disc.num_cells()) return kMiss;
+    const std::uint64_t code = lone_code(disc, c);
+    if (code == 0) return kMiss;
+    // Particles cross a box every few steps at most: the cell's last box first.
+    if (last_code_[c] == code) return last_courant_[c];
+    if (const auto it = boxes_.find(code); it != boxes_.end()) {
+      last_code_[c] = code;
+      return last_courant_[c] = it->second;
+    }
+    return kMiss;
+  }
+  static constexpr double kMiss = std::numeric_limits<double>::quiet_NaN();
+
+  // The box code of cell c's lone particle (lattice_courant's, equal masses), 0 when its Poisson
+  // ratio has no index yet.
+  std::uint64_t lone_code(const Disc& disc, int c) const {
+    const auto xi = disc.particle_local(disc.entry_particle(disc.cell_begin(c)));
+    std::uint64_t code = 1;
+    for (int a = 0; a < dim; ++a)
+      code = code << 8 | static_cast<std::uint64_t>(Lattice::box(xi[a]));
+    int poisson = 0;
+    if constexpr (dim > 1) {
+      const auto it =
+          std::find(poisson_seen_.begin(), poisson_seen_.end(), disc.cell_material(c).poisson);
+      if (it == poisson_seen_.end()) return 0;
+      poisson = static_cast<int>(it - poisson_seen_.begin());
+    }
+    if (poisson >= (1 << 8)) return 0;
+    return (code << 16) << 8 | static_cast<std::uint64_t>(poisson);
   }
 
   // Cell c's particles as entries (positions rounded to `quantum`, 0: as they are), sorted.
@@ -353,28 +427,27 @@ class TimeStepControl : public LayoutQuantisation {
                ? stability::budgeted_courant(layout, setting, budget_).courant
                : stability::admissible_courant(layout, setting, criterion_).courant;
   }
+  // A lattice corner's C* is only a bound for the layouts of its boxes: three significant digits,
+  // rounded down, do (a third of the cost of the full resolution for off-centre RK2 particles,
+  // whose L2 limit just below 1 takes many refinements; the L2 and budget criteria: the monotone
+  // one is cheap).
+  double analyse_corner(const stability::CellLayout& layout,
+                        const stability::AnalysisSetting& setting) const {
+    if (criterion_ == stability::Criterion::monotone) return analyse(layout, setting);
+    stability::SearchOptions options = stability::default_search_options(stability::Criterion::l2);
+    options.courant_tolerance = 1e-4;
+    options.significant_digits = 3;
+    const stability::OneStepMap map = stability::build_one_step_map(layout, setting);
+    const stability::CourantResult strict =
+        stability::admissible_courant(map, stability::Criterion::l2, options);
+    return criterion_ == stability::Criterion::budget
+               ? stability::budgeted_courant(map, strict, budget_).courant
+               : strict.courant;
+  }
 
   // The smallest C* over the corners of the lattice box holding cell c's layout (moving
   // particles, at most kLatticeCoordinates coordinates), through the box cache.
   double lattice_courant(const Disc& disc, const ParticleSet& particles, int c) {
-    if (disc.cell_end(c) - disc.cell_begin(c) == 1) {  // lone (2D RK2): no sort, equal masses
-      const auto xi = disc.particle_local(disc.entry_particle(disc.cell_begin(c)));
-      std::uint64_t code = 1;
-      for (int a = 0; a < dim; ++a)
-        code = code << 8 | static_cast<std::uint64_t>(Lattice::box(xi[a]));
-      const int poisson = poisson_index(disc, c);  // the general code's, masses index 0
-      code = code << 24 | static_cast<std::uint64_t>(poisson);
-      // Particles cross a box every few steps at most: the cell's last box first.
-      if (static_cast<int>(last_code_.size()) != disc.num_cells()) {
-        last_code_.assign(disc.num_cells(), 0);
-        last_courant_.assign(disc.num_cells(), 0.0);
-      }
-      if (last_code_[c] == code) return last_courant_[c];
-      if (const auto it = boxes_.find(code); poisson < (1 << 8) && it != boxes_.end()) {
-        last_code_[c] = code;
-        return last_courant_[c] = it->second;
-      }
-    }
     fill_entries(disc, particles, c, 0.0);
     const int n = static_cast<int>(entries_.size());
     // The code: count (3 bits), the boxes (8 bits per coordinate), masses (16), Poisson (8).
@@ -408,7 +481,8 @@ class TimeStepControl : public LayoutQuantisation {
       std::sort(entries_.begin(), entries_.end());
       fill_key(disc, c);
       keys[corner] = key_;
-      if (!cache_.count(key_) && std::find(missing.begin(), missing.end(), key_) == missing.end()) {
+      if (!corner_cache_.count(key_) &&
+          std::find(missing.begin(), missing.end(), key_) == missing.end()) {
         missing.push_back(key_);
         layouts.push_back(key_layout());
       }
@@ -418,13 +492,14 @@ class TimeStepControl : public LayoutQuantisation {
       const stability::AnalysisSetting setting = setting_of(disc, c);
       std::vector<double> found(missing.size());
 #pragma omp parallel for schedule(dynamic) if (missing.size() > 1)
-      for (std::size_t i = 0; i < missing.size(); ++i) found[i] = analyse(layouts[i], setting);
-      for (std::size_t i = 0; i < missing.size(); ++i) cache_.emplace(missing[i], found[i]);
+      for (std::size_t i = 0; i < missing.size(); ++i)
+        found[i] = analyse_corner(layouts[i], setting);
+      for (std::size_t i = 0; i < missing.size(); ++i) corner_cache_.emplace(missing[i], found[i]);
       analysis_seconds_ +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     double courant = std::numeric_limits<double>::infinity();
-    for (const auto& key : keys) courant = std::min(courant, cache_.at(key));
+    for (const auto& key : keys) courant = std::min(courant, corner_cache_.at(key));
     boxes_.emplace(code, courant);
     return courant;
   }

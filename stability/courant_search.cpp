@@ -102,7 +102,7 @@ SearchResult refine_admissible_courant(const std::function<double(double)>& marg
   while (hi - lo > options.courant_tolerance) {
     double x_lower = lo, x_upper = hi;
     // The solver evaluates both ends, and C = 0 is never evaluated: bisect first in that case.
-    if (lo > 0.0 && gsl_root_fsolver_set(solver, &f, lo, hi) == GSL_SUCCESS) {
+    if (!options.bisect && lo > 0.0 && gsl_root_fsolver_set(solver, &f, lo, hi) == GSL_SUCCESS) {
       for (int it = 0; it < 100; ++it) {
         if (gsl_root_fsolver_iterate(solver) != GSL_SUCCESS) break;
         x_lower = gsl_root_fsolver_x_lower(solver);

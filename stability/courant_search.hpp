@@ -14,6 +14,10 @@ struct SearchOptions {
   double courant_tolerance = 1e-9;  // width of the final bracket
   int significant_digits = 7;       // C* rounded to these (0: not rounded), never up past a limit
   double margin_tolerance = 0.0;    // C passes when margin(C) <= margin_tolerance
+  // Refine by bisection alone, for margins flat below the limit (a spectral radius minus one is 0
+  // up to C*): Brent's interpolation gains nothing there, and its minimal steps off the passing
+  // end cost an evaluation each.
+  bool bisect = false;
 };
 
 struct SearchResult {

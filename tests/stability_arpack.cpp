@@ -105,6 +105,32 @@ BOOST_AUTO_TEST_CASE(search_over_arpack_spectral_radius) {
   BOOST_TEST(std::abs(r.courant - d.courant) < 1e-5, r.courant << " vs " << d.courant);
 }
 
+// A spectral radius is 1 up to C* and rises after it (a margin flat below the limit): bisection
+// finds the same bracket as Brent's refinement without its minimal steps off the passing end
+// (each an ARPACK eigenproblem in `dgmpm courant --scene`), so in fewer evaluations.
+BOOST_AUTO_TEST_CASE(bisection_refines_a_flat_margin_in_fewer_evaluations) {
+  const double limit = 0.7310441;
+  const auto radius_minus_one = [&](double c) { return c <= limit ? 0.0 : 0.4 * (c - limit); };
+  SearchOptions options;
+  options.scan_step = 0.24;
+  options.max_courant = 2.0;
+  options.courant_tolerance = 5e-3;
+  options.significant_digits = 3;
+  options.margin_tolerance = 1e-9;
+  const SearchResult brent = search_admissible_courant(radius_minus_one, options);
+  options.bisect = true;
+  const SearchResult bisection = search_admissible_courant(radius_minus_one, options);
+  BOOST_TEST_MESSAGE("evaluations: Brent " << brent.evaluations << ", bisection "
+                                           << bisection.evaluations);
+  for (const SearchResult& r : {brent, bisection}) {
+    BOOST_TEST(r.courant <= limit);
+    BOOST_TEST(r.courant >= limit - 5e-3);
+    BOOST_TEST(r.failing_courant > limit);
+    BOOST_TEST(r.failing_courant - r.courant <= 5e-3 + 1e-3);  // the bracket, and the rounding
+  }
+  BOOST_TEST(bisection.evaluations < brent.evaluations);
+}
+
 // What `dgmpm courant --scene` builds on: step_operator wraps any lib operator and integrator
 // (here a bar with reflecting ends, not periodic) and the search runs on its ARPACK radius.
 BOOST_AUTO_TEST_CASE(step_operator_on_a_bar_with_reflecting_ends) {
