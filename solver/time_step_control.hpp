@@ -223,6 +223,19 @@ class TimeStepControl : public LayoutQuantisation {
     return static_cast<int>(keys.size());
   }
 
+  // The first occupied cell whose layout the lattice does not bound (more than
+  // kLatticeCoordinates coordinates, or every cell under the paper's formulation): analysed at
+  // each new rounded layout as its particles drift. -1 when there is none.
+  int first_cell_past_the_lattice(const Disc& disc) const {
+    for (int c = 0; c < disc.num_cells(); ++c) {
+      if (!disc.occupied(c)) continue;
+      const int n = disc.cell_end(c) - disc.cell_begin(c);
+      if (n == 1 && lone_particle_shared_) continue;
+      if (!lattice_ || n * dim > kLatticeCoordinates) return c;
+    }
+    return -1;
+  }
+
   // Distinct layouts analysed so far (cache misses), and the seconds spent analysing them and
   // choosing time steps (analyses included).
   int layouts_analysed() const {

@@ -222,3 +222,19 @@ BOOST_AUTO_TEST_CASE(moving_particles_take_their_lattice_boxes_bound) {
   BOOST_TEST(shared > 0);
   BOOST_TEST(control.layouts_analysed() > 1);
 }
+
+// Moving layouts the lattice does not bound (here 2 x 2 particles per cell) are analysed anew as
+// they drift, which can take most of a run: the set-up says so, and only then.
+BOOST_AUTO_TEST_CASE(moving_layouts_past_the_lattice_are_warned_about) {
+  for (const int ppc : {1, 2}) {
+    json doc = scene_with({body(0.0, 0.4, {{"particles_per_cell", {ppc, ppc}}}, {10.0, 0.0})},
+                          "dcu", "euler");
+    doc["particles_move"] = true;
+    const PlaneStrainSimulation sim(scene::parse_scene(doc));
+    const auto& w = sim.warnings();
+    const bool warned = std::any_of(w.begin(), w.end(), [](const std::string& s) {
+      return s.find("more particles than the layout lattice bounds") != std::string::npos;
+    });
+    BOOST_TEST(warned == (ppc == 2), "particles per cell " << ppc);
+  }
+}
