@@ -72,10 +72,7 @@ class Mpm {
   }
 
   const Grid<Dim>& grid() const { return grid_; }
-  MpmVariant variant() const { return variant_; }
-  MpmVelocityUpdate velocity_update() const { return update_; }
   int num_nodes() const { return num_nodes_; }
-  int nodes_along(int axis) const { return nodes_[axis]; }
 
   // Node `a` (bit l: side along axis l) of the cell with multi-index k; periodic axes wrap.
   int node(const typename Grid<Dim>::Index& k, int a) const {

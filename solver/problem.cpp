@@ -184,8 +184,9 @@ void add_body_particles(const scene::Scene& scene, std::size_t body_index,
 }  // namespace
 
 // Refuses, before anything is allocated, a scene whose particles and cells would not fit in the
-// memory available: bytes per particle and per cell as measured by `dgmpm bench` (about 320 and
-// 930 per particle in 1D and 2D with their share of the nodal arrays), rounded up.
+// memory available: bytes per particle and per cell, rounded up from what `dgmpm bench` measures
+// (heap bytes per particle with their share of the nodal arrays: about 155 in 1D, 380-800 in 2D
+// by flux and integrator).
 void check_memory(const scene::Scene& scene) {
   const int dim = scene.dimension;
   double particles = 0, cells = 1;

@@ -179,8 +179,6 @@ void for_each_seed(const Scene& scene, const BodySpec& body,
   }
 }
 
-// Cell ranges of a box (or of the intersection of two).
-
 template <class E>
 using Names = std::initializer_list<std::pair<const char*, E>>;
 

@@ -141,11 +141,12 @@ struct Seed {
   std::array<double, 3> x{};  // per axis; unused axes 0
 };
 
-// The seeds of scene.bodies[body]: cell by cell (the first axis fastest) and, inside a cell, in
-// the order of the layout.
-// Per axis, the range [first, last) of grid cells whose particles may lie in [lo, hi).
+// Per axis, the range [first, last] of grid cells whose particles may lie in [lo, hi) (one cell
+// of margin against rounding, clamped to the grid).
 std::array<std::pair<int, int>, 3> box_cells(const Scene& scene, const std::vector<double>& lo,
                                              const std::vector<double>& hi);
+// The seeds of scene.bodies[body]: cell by cell (the first axis fastest) and, inside a cell, in
+// the order of the layout.
 std::vector<Seed> body_seeds(const Scene& scene, std::size_t body);
 
 }  // namespace dgmpm::scene

@@ -221,7 +221,6 @@ class Simulation final : public SimulationBase {
 };
 
 using BarSimulation = Simulation<ElasticBar>;
-using BarTimeStepControl = TimeStepControl<ElasticBar>;
 using PlaneStrainSimulation = Simulation<PlaneStrain>;
 
 // Energies are per unit cross-section in 1D, per unit thickness in 2D.

@@ -30,9 +30,10 @@ constexpr double kL2ScanStep2D = 0.05;
 constexpr double kMonotoneMarginTolerance = 1e-12;
 
 // Spectral radius of one family's G(theta) at a fixed C. Every particle value after a step is
-// interpolated from its cell's nodes, so G has rank <= 2 per family: its nonzero eigenvalues are
-// those of U^T G U, U an orthonormal basis of the range of all the B_{d,k} (found by SVD, not
-// assumed), which makes each evaluation a 2 x 2 (closed form) eigenproblem.
+// interpolated from its cell's nodes, so G has rank at most the cell's nodes times the family's
+// components (1D: 2 per family, a closed-form 2 x 2 eigenproblem; 2D plane strain: up to 20): its
+// nonzero eigenvalues are those of U^T G U, U an orthonormal basis of the range of all the
+// B_{d,k} (found by SVD, not assumed).
 class FamilySpectrum {
  public:
   explicit FamilySpectrum(const StencilFamily& family);

@@ -205,9 +205,6 @@ class Discretisation {
   typename Shape::Values entry_shape(int e) const {
     return Shape::values(local_.col(entries_[e]));
   }
-  int particle_cell(int p) const {
-    return particle_cell_[p];
-  }
   auto particle_local(int p) const {
     return local_.col(p);
   }
@@ -262,7 +259,8 @@ class Discretisation {
   int source_corner(int i) const {
     return source_corner_[i];
   }
-  // Whether some occupied cell has a massless node (so update() has residuals to fold).
+  // Whether some occupied cell has a massless node (whose residual the update folds into a
+  // node of the same cell that has mass: node_source).
   bool has_massless_nodes() const {
     return has_massless_;
   }

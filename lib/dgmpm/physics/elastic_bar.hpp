@@ -51,8 +51,6 @@ struct ElasticBar {
   static State specific(double sigma, double v, const Material& m) {
     return {sigma / m.density, v};
   }
-  static double stress_of(const State& q, double density) { return q[0] * density; }
-  static double velocity_of(const State& q) { return q[1]; }
 
   // Specific flux F^s = F / rho along the axis.
   static State specific_flux(int /*axis*/, const State& q, const Material& m) {
