@@ -438,3 +438,58 @@ BOOST_AUTO_TEST_CASE(symmetries_of_the_symbol_are_found_not_assumed) {
     BOOST_TEST(limit(regular, s) == limit(nudged, s), boost::test_tools::tolerance(1e-6));
   }
 }
+
+// A cell's particles enter the one-step map only through its lumped masses, consistent mass and
+// pseudo-stiffness (and RK2's near-empty test, on the lumped masses): sums of m_p times products
+// of shape functions and their gradients, that is, for multilinear shapes, the layout's mass
+// moments sum m x^a y^b with a, b <= 2. Two layouts with the same moments (different particle
+// counts) must therefore have the same C*; one with other moments need not. 1D and 2D, Euler and
+// RK2, DCU and CTU, both formulations.
+BOOST_AUTO_TEST_CASE(layouts_with_equal_mass_moments_have_equal_limits) {
+  // A symmetric three-point rule with the mean and second moment of two equal masses at x0, x1.
+  struct Line {
+    std::vector<double> x, m;
+  };
+  const auto matched = [](double x0, double x1, double spread) {
+    const double mean = 0.5 * (x0 + x1), variance = 0.25 * (x1 - x0) * (x1 - x0);
+    const double w = variance / (2 * spread * spread);
+    return Line{{mean - spread, mean, mean + spread}, {w, 1 - 2 * w, w}};
+  };
+  const Line a = matched(0.25, 0.75, 0.4), b = matched(0.01, 0.51, 0.255);
+  BOOST_TEST_REQUIRE(a.m[1] > 0.0);
+  BOOST_TEST_REQUIRE(b.m[1] > 0.0);
+  for (const TimeScheme time : {euler, rk2})
+    for (const bool consistent : {true, false}) {
+      const auto setting = [&](AnalysisSetting s) { return consistent ? s : paper(s); };
+      BOOST_TEST_CONTEXT(to_string(time) << (consistent ? ", consistent" : ", paper")) {
+        AnalysisSetting bar = setting(elastic(0.3, dcu, time));
+        bar.dim = 1;
+        const auto one = [&](std::vector<double> x, std::vector<double> m) {
+          return limit({std::move(x), std::move(m), 1}, bar);
+        };
+        BOOST_TEST(one({0.25, 0.75}, {}) == one(a.x, a.m), boost::test_tools::tolerance(1e-6));
+        BOOST_TEST(one({0.01, 0.51}, {}) == one(b.x, b.m), boost::test_tools::tolerance(1e-6));
+        BOOST_TEST(std::abs(one({0.01, 0.51}, {}) - one({0.05, 0.55}, {})) > 1e-2);
+      }
+    }
+  // 2D: 2 x 2 particles against the tensor product of the matched lines (3 x 3, unequal masses).
+  const auto tensor = [](const Line& lx, const Line& ly) {
+    std::vector<double> xy, m;
+    for (std::size_t j = 0; j < ly.x.size(); ++j)
+      for (std::size_t i = 0; i < lx.x.size(); ++i) {
+        xy.insert(xy.end(), {lx.x[i], ly.x[j]});
+        m.push_back(lx.m[i] * ly.m[j]);
+      }
+    return points(xy, m);
+  };
+  const Line square_x{{0.1, 0.6}, {0.5, 0.5}}, square_y{{0.05, 0.55}, {0.5, 0.5}};
+  const CellLayout four = tensor(square_x, square_y);
+  const CellLayout nine = tensor(matched(0.1, 0.6, 0.3), matched(0.05, 0.55, 0.28));
+  for (const auto& [name, s] : {std::pair{"DCU Euler", elastic(0.3, dcu, euler)},
+                                std::pair{"DCU RK2", elastic(0.3, dcu, rk2)},
+                                std::pair{"CTU Euler", elastic(0.3, ctu, euler)}}) {
+    BOOST_TEST_CONTEXT(name) {
+      BOOST_TEST(limit(four, s) == limit(nine, s), boost::test_tools::tolerance(1e-6));
+    }
+  }
+}
