@@ -296,7 +296,7 @@ class TimeStepControl : public LayoutQuantisation {
   // Key: (2D: Poisson's ratio), positions (dim per particle, sorted), then relative masses; the
   // smallest over the layout's mirror images.
   std::map<std::vector<double>, double> cache_;
-  // Lattice corners, analysed at kCornerOptions' resolution (same keys).
+  // Lattice corners, analysed at a coarser resolution (analyse's `corner`; same keys).
   std::map<std::vector<double>, double> corner_cache_;
   // The one-particle entries, once analysed (when shared): per Poisson ratio (2D).
   std::vector<std::pair<double, double>> lone_courant_;
@@ -434,22 +434,19 @@ class TimeStepControl : public LayoutQuantisation {
     if constexpr (dim > 1) setting.poisson = disc.cell_material(c).poisson;
     return setting;
   }
-  double analyse(const stability::CellLayout& layout,
-                 const stability::AnalysisSetting& setting) const {
-    return criterion_ == stability::Criterion::budget
-               ? stability::budgeted_courant(layout, setting, budget_).courant
-               : stability::admissible_courant(layout, setting, criterion_).courant;
-  }
-  // A lattice corner's C* is only a bound for the layouts of its boxes: three significant digits,
-  // rounded down, do (a third of the cost of the full resolution for off-centre RK2 particles,
-  // whose L2 limit just below 1 takes many refinements; the L2 and budget criteria: the monotone
-  // one is cheap).
-  double analyse_corner(const stability::CellLayout& layout,
-                        const stability::AnalysisSetting& setting) const {
-    if (criterion_ == stability::Criterion::monotone) return analyse(layout, setting);
+  // C* of a layout under the scene's criterion. A lattice `corner`'s C* is only a bound for the
+  // layouts of its boxes: three significant digits, rounded down, do (a third of the cost of the
+  // full resolution for off-centre RK2 particles, whose L2 limit just below 1 takes many
+  // refinements; the monotone criterion is cheap and keeps its resolution).
+  double analyse(const stability::CellLayout& layout, const stability::AnalysisSetting& setting,
+                 bool corner = false) const {
+    if (criterion_ == stability::Criterion::monotone)
+      return stability::admissible_courant(layout, setting, criterion_).courant;
     stability::SearchOptions options = stability::default_search_options(stability::Criterion::l2);
-    options.courant_tolerance = 1e-4;
-    options.significant_digits = 3;
+    if (corner) {
+      options.courant_tolerance = 1e-4;
+      options.significant_digits = 3;
+    }
     const stability::OneStepMap map = stability::build_one_step_map(layout, setting);
     const stability::CourantResult strict =
         stability::admissible_courant(map, stability::Criterion::l2, options);
@@ -506,7 +503,7 @@ class TimeStepControl : public LayoutQuantisation {
       std::vector<double> found(missing.size());
 #pragma omp parallel for schedule(dynamic) if (missing.size() > 1)
       for (std::size_t i = 0; i < missing.size(); ++i)
-        found[i] = analyse_corner(layouts[i], setting);
+        found[i] = analyse(layouts[i], setting, true);
       for (std::size_t i = 0; i < missing.size(); ++i) corner_cache_.emplace(missing[i], found[i]);
       analysis_seconds_ +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
