@@ -34,7 +34,7 @@ Boundaries<Dim> homogeneous(const Boundaries<Dim>& b) {
 template <class Physics>
 double frozen_spectral_radius(const Grid<Physics::dim>& grid,
                               const Boundaries<Physics::dim>& boundaries,
-                              const Particles<Physics::dim, Physics::n_comp>& particles,
+                              const ParticlesOf<Physics>& particles,
                               const std::vector<typename Physics::Material>& materials,
                               const StepperOptions& options, double dt) {
   const Boundaries<Physics::dim> bc = homogeneous<Physics::dim>(boundaries);

@@ -23,11 +23,10 @@
 
 namespace dgmpm {
 
-template <int Dim, int NComp>
+template <class ParticleSet>
 class Halo {
  public:
-  using ParticleSet = Particles<Dim, NComp>;
-  using Positions = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
+  static constexpr int Dim = ParticleSet::dim;
   using Index = std::array<int, Dim>;
 
   // On `subdomain` (its window's depth: one ghost layer per stage); distribute() gives the
@@ -54,9 +53,9 @@ class Halo {
   // Whether cell c of the window belongs to this rank's block.
   bool owns_cell(int c) const { return owned_cell_[c]; }
 
-  // This rank's particles from all of them (in the serial run's order), with `reference` (initial
-  // positions, or an empty matrix) following them; sets up the exchanges of fixed particles.
-  ParticleSet distribute(const ParticleSet& all, Positions& reference) {
+  // This rank's particles from all of them (in the serial run's order); sets up the exchanges of
+  // fixed particles.
+  ParticleSet distribute(const ParticleSet& all) {
     std::vector<int> owned, ghosts;
     std::vector<Index> owned_cells, ghost_cells;
     Index k{};
@@ -77,7 +76,6 @@ class Halo {
     cells.insert(cells.end(), ghost_cells.begin(), ghost_cells.end());
     global_.assign(order.begin(), order.end());
     ParticleSet local = all.select(order);
-    if (reference.cols() > 0) reference = Positions(reference(Eigen::all, order));
     // Fixed particles: what goes to and comes from each partner, in the serial order both sides
     // enumerate.
     const auto& partners = sub_.partners();
@@ -93,23 +91,25 @@ class Halo {
     return local;
   }
 
-  // After a step of fixed particles: the ghosts take their owners' new states.
+  // After a step of fixed particles: the ghosts take their owners' new states (every field a
+  // step changes).
   void exchange_states(ParticleSet& p) {
     const std::size_t n = send_.size();
+    const std::size_t width = static_cast<std::size_t>(p.stepped_width());
     out_.resize(n);
     for (std::size_t j = 0; j < n; ++j) {
-      out_[j].resize(send_[j].size() * NComp);
+      out_[j].resize(send_[j].size() * width);
       for (std::size_t e = 0; e < send_[j].size(); ++e)
-        for (int r = 0; r < NComp; ++r) out_[j][e * NComp + r] = p.state(r, send_[j][e]);
+        p.write_stepped(send_[j][e], out_[j].data() + e * width);
     }
     exchange();
     for (std::size_t j = 0; j < n; ++j) {
-      if (in_[j].size() != receive_[j].size() * NComp)
+      if (in_[j].size() != receive_[j].size() * width)
         throw std::logic_error("halo: rank " + std::to_string(sub_.partners()[j]) + " sent " +
                                std::to_string(in_[j].size()) + " values, expected " +
-                               std::to_string(receive_[j].size() * NComp));
+                               std::to_string(receive_[j].size() * width));
       for (std::size_t e = 0; e < receive_[j].size(); ++e)
-        for (int r = 0; r < NComp; ++r) p.state(r, receive_[j][e]) = in_[j][e * NComp + r];
+        p.read_stepped(receive_[j][e], in_[j].data() + e * width);
     }
   }
 
@@ -117,9 +117,8 @@ class Halo {
   // partner whose window holds them (migration included: a particle entering a partner's block is
   // in its window), and the local set is rebuilt from the owned particles still in the window and
   // what came in. Throws ParticleOutsideGrid for an owned particle that left the grid.
-  void migrate(ParticleSet& p, Positions& reference) {
-    const bool with_reference = reference.cols() > 0;
-    const int width = record_width(with_reference);
+  void migrate(ParticleSet& p) {
+    const int width = 1 + p.record_width();  // the global index, then the fields
     const auto& partners = sub_.partners();
     out_.resize(partners.size());
     for (auto& o : out_) o.clear();  // capacity kept from step to step
@@ -130,11 +129,11 @@ class Halo {
     for (int i = 0; i < owned_; ++i) {
       if (!sub_.locate(p.position.col(i), k)) throw_outside_grid(p, i);
       const int owner = sub_.owner(k);
-      if (sub_.holds(k)) pack(p, reference, i, kept_);
+      if (sub_.holds(k)) pack(p, i, kept_);
       bool sent_to_owner = owner == sub_.rank();
       for (std::size_t j = 0; j < partners.size(); ++j) {
         if (!sub_.partner_holds(static_cast<int>(j), k)) continue;
-        pack(p, reference, i, out_[j]);
+        pack(p, i, out_[j]);
         sent_to_owner = sent_to_owner || partners[j] == owner;
       }
       if (!sent_to_owner)
@@ -152,9 +151,9 @@ class Halo {
     const auto sort_in = [&](const std::vector<double>& buffer) {
       for (std::size_t e = 0; e < buffer.size(); e += width) {
         const double* r = buffer.data() + e;
-        Eigen::Map<const Eigen::Matrix<double, Dim, 1>> x(r + kPosition);
+        Eigen::Map<const Eigen::Matrix<double, Dim, 1>> x(r + 1 + ParticleSet::record_position);
         sub_.locate(x, k);
-        (sub_.owns(k) ? owned : ghosts).push_back({static_cast<long>(r[kGlobal]), r});
+        (sub_.owns(k) ? owned : ghosts).push_back({static_cast<long>(r[0]), r});
       }
     };
     sort_in(kept_);
@@ -164,25 +163,24 @@ class Halo {
     std::sort(ghosts.begin(), ghosts.end(), by_global);
     const int n = static_cast<int>(owned.size() + ghosts.size());
     ParticleSet next;
+    next.tracks_reference = p.tracks_reference;
     next.resize(n);
-    Positions next_reference(Dim, with_reference ? n : 0);
     global_.resize(n);
     owned_ = static_cast<int>(owned.size());
     for (int i = 0; i < n; ++i) {
       const Entry& e = i < owned_ ? owned[i] : ghosts[i - owned_];
       global_[i] = e.global;
-      unpack(e.record, next, next_reference, i);
+      next.read_record(i, e.record + 1);
     }
     p = std::move(next);
-    reference = std::move(next_reference);
   }
 
   // A restart: `p` holds this rank's owned particles (in the serial order, `global` their serial
   // indices) from its checkpoint; the ghosts come from their owners.
-  void restore(ParticleSet& p, Positions& reference, const std::vector<long>& global) {
+  void restore(ParticleSet& p, const std::vector<long>& global) {
     owned_ = p.size();
     global_ = global;
-    migrate(p, reference);
+    migrate(p);
   }
 
   // Columns of the owned particles (the first owned() columns of `local`), gathered on rank 0 in
@@ -208,12 +206,6 @@ class Halo {
   }
 
  private:
-  // A moving particle's record: global index, id, material, mass, volume, position, state,
-  // (reference position): doubles hold the integers exactly (below 2^53).
-  static constexpr int kGlobal = 0, kId = 1, kMaterial = 2, kMass = 3, kVolume = 4, kPosition = 5,
-                       kState = kPosition + Dim, kReference = kState + NComp;
-  static int record_width(bool with_reference) { return kReference + (with_reference ? Dim : 0); }
-
   void exchange() {
     const auto start = std::chrono::steady_clock::now();
     comm_.exchange(sub_.partners(), out_, in_);
@@ -223,27 +215,11 @@ class Halo {
     for (const auto& o : out_) traffic_.bytes_sent += 8.0 * static_cast<double>(o.size());
   }
 
-  void pack(const ParticleSet& p, const Positions& reference, int i,
-            std::vector<double>& out) const {
+  // A moving particle's record: its global index (a double holds it exactly below 2^53), then its
+  // fields.
+  void pack(const ParticleSet& p, int i, std::vector<double>& out) const {
     out.push_back(static_cast<double>(global_[i]));
-    out.push_back(p.id[i]);
-    out.push_back(p.material[i]);
-    out.push_back(p.mass[i]);
-    out.push_back(p.volume[i]);
-    for (int l = 0; l < Dim; ++l) out.push_back(p.position(l, i));
-    for (int r = 0; r < NComp; ++r) out.push_back(p.state(r, i));
-    if (reference.cols() > 0)
-      for (int l = 0; l < Dim; ++l) out.push_back(reference(l, i));
-  }
-  static void unpack(const double* r, ParticleSet& p, Positions& reference, int i) {
-    p.id[i] = static_cast<int>(r[kId]);
-    p.material[i] = static_cast<int>(r[kMaterial]);
-    p.mass[i] = r[kMass];
-    p.volume[i] = r[kVolume];
-    for (int l = 0; l < Dim; ++l) p.position(l, i) = r[kPosition + l];
-    for (int c = 0; c < NComp; ++c) p.state(c, i) = r[kState + c];
-    if (reference.cols() > 0)
-      for (int l = 0; l < Dim; ++l) reference(l, i) = r[kReference + l];
+    p.write_record(i, out);
   }
 
   Communicator& comm_;

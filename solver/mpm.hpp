@@ -12,6 +12,7 @@
 #include <dgmpm/discretisation.hpp>
 #include <dgmpm/grid.hpp>
 #include <dgmpm/particles.hpp>
+#include <dgmpm/physics/contract.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 #include <dgmpm/shape_functions.hpp>
@@ -43,6 +44,8 @@ inline const char* to_string(MpmVariant v) {
 
 template <class Physics>
 class Mpm {
+  static_assert(physics::MpmConstitutive<Physics>, "the MPM baseline needs a constitutive model");
+
  public:
   static constexpr int Dim = Physics::dim;
   static constexpr int npc = 1 << Dim;  // nodes of a cell
@@ -57,7 +60,7 @@ class Mpm {
   using Material = typename Physics::Material;
   using Tensor = Eigen::Matrix<double, Dim, Dim>;
   using Vec = Eigen::Matrix<double, Dim, 1>;
-  using ParticleSet = Particles<Dim, ncomp>;
+  using ParticleSet = ParticlesOf<Physics>;
   using NodalVectors = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
 
   Mpm(const Grid<Dim>& grid, const Boundaries<Dim>& bc, std::vector<Material> materials,
@@ -142,7 +145,8 @@ class Mpm {
   static void set_particle_velocity(ParticleSet& ps, int p, const Vec& v) {
     ps.state.col(p).template tail<Dim>() = v;
   }
-  // sigma += dt C : sym(grad v), with grad v from the nodal velocities v.
+  // sigma += dt C : sym(grad v), with grad v from the nodal velocities v, then the physics'
+  // particle step (a constitutive correction) where it has one, as DGMPM's sweep does.
   void update_stress(ParticleSet& ps, const NodalVectors& v, double dt) const {
     const int np = ps.size();
 #pragma omp parallel for schedule(static) if (threaded(np))
@@ -152,6 +156,8 @@ class Mpm {
         grad.noalias() += v.col(node_(a, p)) * grad_.template block<Dim, 1>(a * Dim, p).transpose();
       auto q = ps.state.col(p);
       Physics::add_stress_rate(q, grad, materials_[ps.material[p]], dt);
+      if constexpr (physics::ParticleStepPhysics<Physics>)
+        Physics::particle_step(q, ps.internal.col(p), materials_[ps.material[p]], dt);
     }
   }
   // f_i -= V_p sigma_p grad S_i(x_p).

@@ -154,7 +154,7 @@ void set_exact(const scene::Scene& scene, Problem<PlaneStrain>& problem) {
 template <class Physics>
 void add_body_particles(const scene::Scene& scene, std::size_t body_index,
                         const Grid<Physics::dim>& grid, const typename Physics::Material& mat,
-                        Particles<Physics::dim, Physics::n_comp>& particles) {
+                        ParticlesOf<Physics>& particles) {
   constexpr int dim = Physics::dim;
   const scene::BodySpec& body = scene.bodies[body_index];
   const double density = scene.materials[body.material].density;
@@ -166,18 +166,16 @@ void add_body_particles(const scene::Scene& scene, std::size_t body_index,
   const auto state = initial_state(body, mat);
   const std::vector<scene::Seed> seeds = scene::body_seeds(scene, body_index);
   const int first = particles.size(), n = first + static_cast<int>(seeds.size());
-  particles.position.conservativeResize(dim, n);
-  particles.mass.conservativeResize(n);
-  particles.volume.conservativeResize(n);
-  particles.state.conservativeResize(Physics::n_comp, n);
+  particles.resize(n, true);
   for (int p = first; p < n; ++p) {
     const scene::Seed& seed = seeds[p - first];
     for (int a = 0; a < dim; ++a) particles.position(a, p) = seed.x[a];
     particles.volume[p] = grid.cell_volume() * w[seed.local] / wsum;
     particles.mass[p] = density * particles.volume[p];
     particles.state.col(p) = state;
-    particles.material.push_back(body.material);
-    particles.id.push_back(p);
+    particles.internal.col(p).setZero();  // no plastic strain or hardening yet
+    particles.material[p] = body.material;
+    particles.id[p] = p;
   }
 }
 

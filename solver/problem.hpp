@@ -26,7 +26,7 @@ struct Problem {
   Grid<dim> grid;
   Boundaries<dim> boundaries;
   std::vector<typename Physics::Material> materials;
-  Particles<dim, Physics::n_comp> particles;
+  ParticlesOf<Physics> particles;
   // Exact solution, physical state (sigma, v) at material point x0 and time t; empty if none.
   std::function<State(const Vec& x0, double t)> exact;
   // The impedance that relates the exact solution's stress and velocity scales.

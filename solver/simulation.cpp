@@ -35,10 +35,10 @@ MpmVariant mpm_variant(scene::Method m) {
 }
 
 // Particles sorted by cell so that the per-cell loops read contiguous memory.
-template <int Dim, int NComp>
-void sort_by_cell(const Grid<Dim>& grid, Particles<Dim, NComp>& particles) {
+template <class ParticleSet>
+void sort_by_cell(const Grid<ParticleSet::dim>& grid, ParticleSet& particles) {
   std::vector<int> cell(particles.size());
-  Eigen::Matrix<double, Dim, 1> xi;
+  Eigen::Matrix<double, ParticleSet::dim, 1> xi;
   for (int p = 0; p < particles.size(); ++p) cell[p] = grid.locate(particles.position.col(p), xi);
   std::vector<int> order(particles.size());
   std::iota(order.begin(), order.end(), 0);
@@ -136,7 +136,10 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
   total_particles_ = problem_.particles.size();
   total_cells_ = problem_.grid.num_cells();
   max_speed_ = problem_.max_wave_speed();
-  if (scene_.particles_move && problem_.exact) reference_position_ = problem_.particles.position;
+  if (scene_.particles_move && problem_.exact) {  // the exact solution at initial positions
+    problem_.particles.tracks_reference = true;
+    problem_.particles.reference = problem_.particles.position;
+  }
   const double h = problem_.grid.cell_size.minCoeff();
   if (scene_.method == scene::Method::dgmpm) {
     stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
@@ -234,13 +237,13 @@ void Simulation<Physics>::distribute(Communicator& ranks) {
   // One ghost layer per stage.
   const int depth = scene_.time.integrator == TimeScheme::rk2 ? 2 : 1;
   try {
-    halo_ = std::make_unique<Halo<dim, ncomp>>(
+    halo_ = std::make_unique<Halo<ParticleSet>>(
         ranks, Subdomain<dim>(grid, BlockDecomposition<dim>(grid, layout), ranks.rank(), depth));
   } catch (const std::invalid_argument& e) {
     throw scene::SceneError(scene_.source + ": grid: cannot be split over " + count + ": " +
                             e.what());
   }
-  problem_.particles = halo_->distribute(problem_.particles, reference_position_);
+  problem_.particles = halo_->distribute(problem_.particles);
   problem_.boundaries = halo_->subdomain().boundaries(problem_.boundaries);
   problem_.grid = halo_->subdomain().window();
   stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
@@ -342,10 +345,10 @@ void Simulation<Physics>::step(double dt) {
     if (mpm_) {
       mpm_->step(particles, time_, dt, scene_.particles_move);
     } else {
-      finite = stepper_->step(particles.state, particles.mass, time_, dt);
+      finite = stepper_->step(particles, problem_.materials, time_, dt);
       if (scene_.particles_move) {
         particles.position += dt * particles.state.template bottomRows<dim>();
-        if (halo_) halo_->migrate(particles, reference_position_);
+        if (halo_) halo_->migrate(particles);
         stepper_->rebuild(particles, problem_.materials);
         if (!overfull_warned_ && scene_.formulation == Formulation::paper)
           warn_if_overfull_cell(steps_ + 1, time_ + dt);
@@ -489,7 +492,7 @@ template <class Physics>
 typename Simulation<Physics>::Field Simulation<Physics>::exact_state(double t) const {
   const auto& p = problem_.particles;
   Field s(ncomp, owned_particles());
-  const auto& x0 = reference_position_.cols() > 0 ? reference_position_ : p.position;
+  const auto& x0 = p.tracks_reference ? p.reference : p.position;
   for (int i = 0; i < s.cols(); ++i) s.col(i) = problem_.exact(x0.col(i), t);
   return s;
 }
@@ -502,27 +505,29 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
   std::optional<Field> ex;
   if (problem_.exact) ex = exact_state(time_);
   const auto& p = problem_.particles;
-  // Columns: id, position, mass, volume, physical state, exact state.
+  // Columns: id, position, mass, volume, physical state, internal variables, exact state.
   constexpr int kMass = 1 + dim, kVolume = 2 + dim, kState = 3 + dim;
-  Eigen::MatrixXd table(kState + ncomp * (ex ? 2 : 1), s.cols());
+  constexpr int kInternal = kState + ncomp, kExact = kInternal + ParticleSet::n_internal;
+  Eigen::MatrixXd table(kExact + (ex ? ncomp : 0), s.cols());
   for (Eigen::Index i = 0; i < s.cols(); ++i) {
     table(0, i) = p.id[i];
     table.col(i).segment<dim>(1) = p.position.col(i);
     table(kMass, i) = p.mass[i];
     table(kVolume, i) = p.volume[i];
     table.col(i).segment<ncomp>(kState) = s.col(i);
-    if (ex) table.col(i).segment<ncomp>(kState + ncomp) = ex->col(i);
+    table.col(i).segment<ParticleSet::n_internal>(kInternal) = p.internal.col(i);
+    if (ex) table.col(i).segment<ncomp>(kExact) = ex->col(i);
   }
   if (halo_) table = halo_->gather(table);
   if (!root()) return;
   output::write_atomically(path, [&](std::ostream& out) {
-    if constexpr (dim == 1) {
-      out << "id,x,mass,stress,velocity" << (ex ? ",exact_stress,exact_velocity" : "");
-    } else {
-      out << "id,x,y,mass,volume,sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y";
-      if (ex)
-        out << ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,exact_velocity_y";
-    }
+    out << (dim == 1 ? "id,x,mass,stress,velocity"
+                     : "id,x,y,mass,volume,sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y");
+    for (const char* name : Physics::internal_names) out << ',' << name;
+    if (ex)
+      out << (dim == 1 ? ",exact_stress,exact_velocity"
+                       : ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,"
+                         "exact_velocity_y");
     out << ",time\n";
     for (Eigen::Index i = 0; i < table.cols(); ++i) {
       out << static_cast<long>(table(0, i));
@@ -883,18 +888,6 @@ template <class M>
 void get(checkpoint::PayloadReader& r, M& m) {
   r.bytes(m.data(), sizeof(*m.data()) * static_cast<std::size_t>(m.size()));
 }
-// The particle arrays of a checkpoint, in their order in the file (one list for writing and
-// reading).
-template <class ParticleSet, class Positions, class Visit>
-void checkpoint_arrays(ParticleSet& p, Positions& reference, Visit&& visit) {
-  visit(p.position);
-  visit(p.mass);
-  visit(p.volume);
-  visit(p.state);
-  visit(p.material);
-  visit(p.id);
-  visit(reference);
-}
 }  // namespace
 
 template <class Physics>
@@ -906,8 +899,6 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
   std::iota(first.begin(), first.end(), 0);
   const ParticleSet owned = halo_ ? problem_.particles.select(first) : ParticleSet{};
   const ParticleSet& p = halo_ ? owned : problem_.particles;
-  const Eigen::Matrix<double, dim, Eigen::Dynamic> reference =
-      reference_position_.leftCols(reference_position_.cols() > 0 ? n : 0);
   std::vector<long> global(halo_ ? n : 0);
   for (std::size_t i = 0; i < global.size(); ++i) global[i] = halo_->global_index(int(i));
   const Progress& d = progress_;
@@ -950,8 +941,10 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
     file.header["ranks"] = halo_->comm().size();
     file.header["rank"] = halo_->comm().rank();
   }
+  // Only where there are some: elastic checkpoints keep the header they always had.
+  if (ParticleSet::n_internal > 0) file.header["internal_variables"] = ParticleSet::n_internal;
   checkpoint::PayloadWriter w(file.payload);
-  checkpoint_arrays(p, reference, [&](const auto& a) { put(w, a); });
+  p.for_each_field([&](const FieldInfo&, const auto& a) { put(w, a); });
   if (halo_) put(w, global);
   checkpoint::write(path, file);
 }
@@ -975,18 +968,20 @@ void Simulation<Physics>::restore(const std::string& path) {
                               std::to_string(h.value("ranks", 1)) + ")");
     const int n = halo_ ? h.at("particles").get<int>() : p.size();
     if (h.at("dimension") != dim || h.at("components") != ncomp || h.at("particles") != n ||
-        n < 0 || n > total_particles_)
+        h.value("internal_variables", 0) != ParticleSet::n_internal || n < 0 ||
+        n > total_particles_)
       throw scene::SceneError(
           piece + ": cannot restart from this checkpoint: it holds " + h.at("particles").dump() +
-          " particles in " + h.at("dimension").dump() + "D, the scene " +
-          std::to_string(total_particles_) + " in " + std::to_string(dim) + "D");
+          " particles in " + h.at("dimension").dump() + "D with " +
+          std::to_string(h.value("internal_variables", 0)) + " internal variables, the scene " +
+          std::to_string(total_particles_) + " in " + std::to_string(dim) + "D with " +
+          std::to_string(ParticleSet::n_internal));
     ParticleSet restored;
+    restored.tracks_reference = p.tracks_reference;
     restored.resize(n);
-    Eigen::Matrix<double, dim, Eigen::Dynamic> reference(dim,
-                                                         reference_position_.cols() > 0 ? n : 0);
     std::vector<long> global(halo_ ? n : 0);
     checkpoint::PayloadReader r(piece, file.payload);
-    checkpoint_arrays(restored, reference, [&](auto& a) { get(r, a); });
+    restored.for_each_field([&](const FieldInfo&, auto& a) { get(r, a); });
     if (halo_) get(r, global);
     r.expect_end();
     for (std::size_t i = 0; i < global.size(); ++i)
@@ -1026,8 +1021,7 @@ void Simulation<Physics>::restore(const std::string& path) {
     scene_guard_warned_ = h.at("scene_guard_warned").get<bool>();
     warnings_ = h.at("warnings").get<std::vector<std::string>>();
     p = std::move(restored);
-    reference_position_ = std::move(reference);
-    if (halo_) halo_->restore(p, reference_position_, global);  // the ghosts, from their owners
+    if (halo_) halo_->restore(p, global);  // the ghosts, from their owners
     progress_ = std::move(d);
     if (mpm_) mpm_->set_load_work(u(h, "mpm_load_work"));
     if (stepper_) stepper_->rebuild(p, problem_.materials);

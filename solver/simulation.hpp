@@ -87,7 +87,7 @@ class Simulation final : public SimulationBase {
  public:
   static constexpr int dim = Physics::dim;
   static constexpr int ncomp = Physics::n_comp;
-  using ParticleSet = Particles<dim, ncomp>;
+  using ParticleSet = ParticlesOf<Physics>;
   using Field = Eigen::Matrix<double, ncomp, Eigen::Dynamic>;
 
   // With `ranks` of more than one rank: this rank's part of a distributed run (docs/distributed.md;
@@ -107,7 +107,7 @@ class Simulation final : public SimulationBase {
   const ParticleSet& particles() const { return problem_.particles; }
   int owned_particles() const { return halo_ ? halo_->owned() : problem_.particles.size(); }
   // The particles' positions in the serial run's arrays (distributed runs only).
-  const Halo<dim, ncomp>* halo() const { return halo_.get(); }
+  const Halo<ParticleSet>* halo() const { return halo_.get(); }
   int num_particles() const override { return total_particles_; }
   int num_cells() const override { return total_cells_; }
   double time() const { return time_; }
@@ -201,13 +201,10 @@ class Simulation final : public SimulationBase {
   Problem<Physics> problem_;
   std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
   std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
-  std::unique_ptr<Halo<dim, ncomp>> halo_;     // distributed runs
+  std::unique_ptr<Halo<ParticleSet>> halo_;    // distributed runs
   int total_particles_ = 0, total_cells_ = 0;
   double setup_seconds_ = 0;  // the constructor's wall time
   double max_speed_ = 0;      // of the materials the particles carry
-  // Initial positions, kept for the exact solution of moving particles only (fixed particles are
-  // their own reference).
-  Eigen::Matrix<double, dim, Eigen::Dynamic> reference_position_;
   std::optional<TimeStepControl<Physics>> time_control_;
   std::vector<std::string> warnings_;
   double time_ = 0, dt_ = 0, work_ = 0, power_ = 0;

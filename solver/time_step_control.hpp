@@ -112,7 +112,7 @@ class TimeStepControl : public LayoutQuantisation {
  public:
   static constexpr int dim = Physics::dim;
   using Disc = Discretisation<Physics>;
-  using ParticleSet = Particles<dim, Physics::n_comp>;
+  using ParticleSet = ParticlesOf<Physics>;
   using Lattice = std::conditional_t<dim == 1, FineLayoutLattice, CoarseLayoutLattice>;
 
   // `max_wave_speed`: of the materials the particles carry (the growth budget's horizon is the

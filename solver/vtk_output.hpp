@@ -107,6 +107,8 @@ std::vector<PointData> point_data(const ParticleSet& particles,
     mat.values.push_back(particles.material[i]);
   }
   for (auto* d : {&mass, &volume, &id, &mat}) data.push_back(std::move(*d));
+  for (int k = 0; k < ParticleSet::n_internal; ++k)  // the physics' internal variables
+    data.push_back(detail::row(Physics::internal_names[k], particles.internal, k));
   return data;
 }
 

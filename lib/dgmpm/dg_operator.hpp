@@ -19,6 +19,7 @@
 #include "boundary.hpp"
 #include "discretisation.hpp"
 #include "grid.hpp"
+#include "physics/contract.hpp"
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -36,6 +37,13 @@ struct EveryCell {
   bool operator()(int) const { return true; }
 };
 
+// What a step does at each particle after its new state is interpolated, in the same sweep: a
+// constitutive correction (a plastic return) of particle p's state q. Elastic materials have none.
+struct NoParticleStep {
+  template <class Q>
+  void operator()(int, Q&&) const {}
+};
+
 // Donor-cell upwind (normal Riemann problems only) or corner transport upwind.
 enum class FluxScheme { dcu, ctu };
 
@@ -43,7 +51,7 @@ inline const char* to_string(FluxScheme f) {
   return f == FluxScheme::ctu ? "ctu" : "dcu";
 }
 
-template <class Physics>
+template <physics::DGPhysics Physics>
 class DGOperator {
  public:
   static constexpr int dim = Physics::dim;
@@ -101,12 +109,15 @@ class DGOperator {
   // composition is written out in tests/solver_fused_steps.cpp). Stages that write particles
   // return whether every new state is finite.
 
-  // Euler: q = projection of qp, then qp of each cell = interpolation of q + dt M^-1 r(q, t).
+  // Euler: q = projection of qp, then qp of each cell = interpolation of q + dt M^-1 r(q, t),
+  // then `particle_step` at each of its particles.
+  template <class ParticleStep = NoParticleStep>
   bool project_and_advance_to_particles(ParticleField& qp, const Eigen::VectorXd& mass, double t,
-                                        double dt, NodalField& q) const {
+                                        double dt, NodalField& q,
+                                        const ParticleStep& particle_step = {}) const {
     q.resize(ncomp, num_nodes());
     return advance(Projection{&qp, &q}, mass, q, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
-      interpolate_cell(c, out, qp);
+      interpolate_cell(c, out, qp, particle_step);
       sweep.check(out);
     });
   }
@@ -132,15 +143,16 @@ class DGOperator {
   }
 
   // RK2's second stage (Heun): qp = interpolation of (q0 + q1 + dt M^-1 r(q1, t)) / 2, plus the
-  // first stage's excess at near-empty nodes.
+  // first stage's excess at near-empty nodes, then `particle_step` at each particle.
+  template <class ParticleStep = NoParticleStep>
   bool average_to_particles(const NodalField& q0, const NodalField& q1, const NodalField& excess,
-                            const Eigen::VectorXd& mass, double t, double dt,
-                            ParticleField& qp) const {
+                            const Eigen::VectorXd& mass, double t, double dt, ParticleField& qp,
+                            const ParticleStep& particle_step = {}) const {
     const bool damped = disc_.has_near_empty_nodes();
     return advance(Projection{}, mass, q1, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
       if (damped && disc_.near_empty(c)) out += 0.5 * excess.template middleCols<npc>(c * npc);
-      interpolate_cell(c, out, qp);
+      interpolate_cell(c, out, qp, particle_step);
       sweep.check(out);
     });
   }
@@ -261,10 +273,14 @@ class DGOperator {
     }
   }
 
-  template <class Block>
-  void interpolate_cell(int c, const Block& block, ParticleField& qp) const {
-    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)
-      qp.col(disc_.entry_particle(e)).noalias() = block * disc_.entry_shape(e);
+  template <class Block, class ParticleStep = NoParticleStep>
+  void interpolate_cell(int c, const Block& block, ParticleField& qp,
+                        const ParticleStep& particle_step = {}) const {
+    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e) {
+      const int p = disc_.entry_particle(e);
+      qp.col(p).noalias() = block * disc_.entry_shape(e);
+      particle_step(p, qp.col(p));
+    }
   }
 
   // A thread's sweep over its contiguous range of cells [begin, end), in order. The star state of

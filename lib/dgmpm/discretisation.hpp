@@ -23,8 +23,8 @@ struct ParticleOutsideGrid : std::runtime_error {
 };
 
 // Throws ParticleOutsideGrid for particle p, naming it and its position.
-template <int Dim, int NComp>
-[[noreturn]] void throw_outside_grid(const Particles<Dim, NComp>& particles, int p) {
+template <int Dim, int NComp, int NInternal>
+[[noreturn]] void throw_outside_grid(const Particles<Dim, NComp, NInternal>& particles, int p) {
   std::ostringstream s;
   s << "particle " << particles.id[p] << " at x = " << particles.position.col(p).transpose()
     << " is outside the grid";
@@ -84,7 +84,7 @@ class Discretisation {
   // sizes are reached. Incremental: when no particle changed cell since the last build (moving
   // particles travel less than a cell per step), the cells keep their particle lists and only
   // the values are recomputed. Throws ParticleOutsideGrid.
-  void build(const Grid<dim>& grid, const Particles<dim, ncomp>& particles,
+  void build(const Grid<dim>& grid, const ParticlesOf<Physics>& particles,
              const std::vector<Material>& materials) {
     const int nc = grid.num_cells(), np = particles.size();
     const bool threaded = std::max(nc, np) >= kThreaded;

@@ -19,13 +19,14 @@ struct StepperOptions {
   Formulation formulation = Formulation::consistent;
 };
 
-template <class Physics>
+template <physics::DGPhysics Physics>
+requires physics::InternalVariablesStepped<Physics>
 class Stepper {
  public:
   static constexpr int dim = Physics::dim;
   using Op = DGOperator<Physics>;
   using Disc = Discretisation<Physics>;
-  using ParticleSet = Particles<dim, Physics::n_comp>;
+  using ParticleSet = ParticlesOf<Physics>;
 
   // grid and boundaries are referenced and must outlive the stepper. Only the chosen
   // integrator's buffers exist.
@@ -49,9 +50,27 @@ class Stepper {
   }
 
   // Returns whether every new particle state is finite (checked as the stage writes them).
-  bool step(typename Op::ParticleField& q, const Eigen::VectorXd& mass, double t, double dt) {
-    return std::visit([&](auto& integrator) { return integrator.step(*op_, q, mass, t, dt); },
-                      integrator_);
+  // `particle_step(p, q)` runs at each particle once its new state q is interpolated, in the same
+  // sweep (DGOperator's NoParticleStep: none).
+  template <class ParticleStep = NoParticleStep>
+  bool step(typename Op::ParticleField& q, const Eigen::VectorXd& mass, double t, double dt,
+            const ParticleStep& particle_step = {}) {
+    return std::visit(
+        [&](auto& integrator) { return integrator.step(*op_, q, mass, t, dt, particle_step); },
+        integrator_);
+  }
+
+  // A step of `particles`, with the physics' own particle step when it has one (a constitutive
+  // correction of the state and internal variables over dt), else none.
+  bool step(ParticleSet& particles, const std::vector<typename Physics::Material>& materials,
+            double t, double dt) {
+    if constexpr (physics::ParticleStepPhysics<Physics>) {
+      return step(particles.state, particles.mass, t, dt, [&](int p, auto&& q) {
+        Physics::particle_step(q, particles.internal.col(p), materials[particles.material[p]], dt);
+      });
+    } else {
+      return step(particles.state, particles.mass, t, dt);
+    }
   }
 
   const StepperOptions& options() const { return options_; }

@@ -5,6 +5,7 @@
 #include "../boundary.hpp"
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 
 namespace dgmpm {
@@ -13,6 +14,8 @@ template <int Dim>
 struct Advection {
   static constexpr int dim = Dim;
   static constexpr int n_comp = 1;
+  static constexpr int n_internal = 0;  // no internal variables (elastic)
+  static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
   using State = Eigen::Matrix<double, 1, 1>;
 
   struct Material {

@@ -5,6 +5,7 @@
 #include "../boundary.hpp"
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 
 namespace dgmpm {
@@ -12,6 +13,8 @@ namespace dgmpm {
 struct ElasticBar {
   static constexpr int dim = 1;
   static constexpr int n_comp = 2;
+  static constexpr int n_internal = 0;  // no internal variables (elastic)
+  static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
   using State = Eigen::Matrix<double, n_comp, 1>;
   enum Component { stress = 0, velocity = 1 };
 

@@ -21,6 +21,7 @@
 #include "../boundary.hpp"
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 
 namespace dgmpm {
@@ -28,6 +29,8 @@ namespace dgmpm {
 struct PlaneStrain {
   static constexpr int dim = 2;
   static constexpr int n_comp = 5;
+  static constexpr int n_internal = 0;  // no internal variables (elastic)
+  static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
   using State = Eigen::Matrix<double, n_comp, 1>;
   using Vec = Eigen::Matrix<double, 2, 1>;
   enum Component { sxx = 0, syy = 1, sxy = 2, vx = 3, vy = 4 };

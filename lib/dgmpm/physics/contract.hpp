@@ -1,0 +1,92 @@
+#pragma once
+// What a physics must provide, as concepts: the conservation law DCU's operator steps
+// (ConservationLaw), what corner transport upwind adds in 2D (CornerTransport), what the MPM
+// baseline needs of a constitutive model (MpmConstitutive), and the optional per-particle step
+// after interpolation (ParticleStepPhysics: a constitutive correction such as a plastic return,
+// with the physics' internal variables). The physics headers of this folder model them; the
+// operator, the stepper and MPM state which they need, so a physics that misses a function is
+// named at the point of use.
+
+#include "../boundary.hpp"
+
+#include <Eigen/Core>
+#include <concepts>
+#include <cstddef>
+
+namespace dgmpm::physics {
+
+// The per-particle internal variables of a physics (plastic strain, hardening...).
+template <class P>
+using Internal = Eigen::Matrix<double, P::n_internal, 1>;
+
+// A hyperbolic system q_t + div F(q) = 0 in specific form, as DCU's operator steps it: sizes,
+// materials (one per cell, blended where a cell holds several), the volume term's flux, the
+// Riemann problem of an edge, the flux of its star state and the ghost state of a boundary.
+template <class P>
+concept ConservationLaw = requires(const typename P::State& q, const typename P::Material& m,
+                                   double mass, int axis, BoundaryKind kind,
+                                   const Eigen::Matrix<double, P::dim, 1>& value) {
+  requires P::dim >= 1 && P::dim <= 2;
+  requires P::n_comp >= 1;
+  requires P::n_internal >= 0;
+  requires P::internal_names.size() == static_cast<std::size_t>(P::n_internal);
+  { P::max_wave_speed(m) } -> std::convertible_to<double>;
+  { P::density(m) } -> std::convertible_to<double>;
+  { P::blend(m, mass, m, mass) } -> std::convertible_to<typename P::Material>;
+  { P::physical(q, m) } -> std::convertible_to<typename P::State>;
+  { P::specific_flux(axis, q, m) } -> std::convertible_to<typename P::State>;
+  { P::riemann(axis, q, m, q, m) } -> std::convertible_to<typename P::State>;
+  { P::flux(axis, q, m) } -> std::convertible_to<typename P::State>;
+  { P::ghost(kind, value, axis, q, m) } -> std::convertible_to<typename P::State>;
+};
+
+// CTU in 2D: the fluctuations entering a cell, their transverse split and a boundary's mirror map.
+template <class P>
+concept CornerTransport = ConservationLaw<P> &&
+    requires(const typename P::State& q, const typename P::Material& m, int axis, int side, bool up,
+             BoundaryKind kind) {
+  { P::fluctuation(axis, q, q, m, side) } -> std::convertible_to<typename P::State>;
+  { P::transverse(axis, q, m, m, up) } -> std::convertible_to<typename P::State>;
+  { P::reflect(kind, axis, q) } -> std::convertible_to<typename P::State>;
+};
+
+// What the operator needs: the conservation law, and CTU's parts in 2D.
+template <class P>
+concept DGPhysics = ConservationLaw<P> &&(P::dim == 1 || CornerTransport<P>);
+
+// The MPM baseline's constitutive part: the Cauchy stress of a state and its rate update.
+template <class P>
+concept MpmConstitutive = ConservationLaw<P> &&
+    requires(typename P::State& q, const typename P::Material& m,
+             const Eigen::Matrix<double, P::dim, P::dim>& grad_v, double dt) {
+  { P::stress_tensor(q, m) } -> std::convertible_to<Eigen::Matrix<double, P::dim, P::dim>>;
+  P::add_stress_rate(q, grad_v, m, dt);
+};
+
+// The energy the solver reports: kinetic and elastic, per unit mass.
+template <class P>
+concept HasEnergy = requires(const typename P::State& q, const typename P::Material& m) {
+  { P::kinetic_energy_per_mass(q) } -> std::convertible_to<double>;
+  { P::elastic_energy_per_mass(q, m) } -> std::convertible_to<double>;
+};
+
+// A correction of a particle's state q and internal variables z over a step dt, once q is
+// interpolated (a return mapping). Physics with internal variables must have one.
+template <class P>
+concept ParticleStepPhysics = requires(typename P::State& q, Internal<P>& z,
+                                       const typename P::Material& m, double dt) {
+  P::particle_step(q, z, m, dt);
+};
+
+// A physics whose internal variables store and dissipate energy (hardening, plastic flow): per
+// unit mass, from a particle's internal variables.
+template <class P>
+concept Dissipative = requires(const Internal<P>& z, const typename P::Material& m) {
+  { P::stored_energy_per_mass(z, m) } -> std::convertible_to<double>;
+  { P::dissipated_energy_per_mass(z) } -> std::convertible_to<double>;
+};
+
+template <class P>
+concept InternalVariablesStepped = P::n_internal == 0 || ParticleStepPhysics<P>;
+
+}  // namespace dgmpm::physics
