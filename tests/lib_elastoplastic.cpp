@@ -1,0 +1,200 @@
+// lib/: the elasto-plastic and elasto-viscoplastic bar (uniaxial stress). The return against its
+// own definition (consistency after a radial return, the Perzyna equation solved to round-off
+// from dt / tau = 1e-3 to 1e20, the rate-independent limit approached like tau^(1/n), the energy a
+// return removes: exactly (E + h) dp^2 / 2); the fractional step on a bar impact against the
+// exact plateau of the elastic-plastic wave pair; an elastic material in the plastic physics
+// against the elastic bar, to the bit.
+#define BOOST_TEST_MODULE elastoplastic
+#include <boost/test/unit_test.hpp>
+
+#include <dgmpm/physics/contract.hpp>
+#include <dgmpm/physics/elastoplastic_bar.hpp>
+#include <dgmpm/stepper.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace dgmpm;
+using EP = ElastoPlasticBar;
+
+static_assert(physics::DGPhysics<EP> && physics::MpmConstitutive<EP>);
+static_assert(physics::ParticleStepPhysics<EP> && physics::Dissipative<EP>);
+
+namespace {
+
+constexpr double E = 2e11, rho = 7800, sigma_y = 4e8;
+
+PlasticFlow flow(double h_iso, double c_kin, double tau = 0, double n = 1) {
+  PlasticFlow f;
+  f.yield_stress = sigma_y;
+  f.isotropic_hardening = h_iso;
+  f.kinematic_hardening = c_kin;
+  f.relaxation_time = tau;
+  f.rate_exponent = n;
+  return f;
+}
+
+// Kinetic + elastic + stored + dissipated per unit mass of one particle.
+double total_energy(const EP::State& q, const physics::Internal<EP>& z, const EP::Material& m) {
+  return EP::kinetic_energy_per_mass(q) + EP::elastic_energy_per_mass(q, m) +
+         EP::stored_energy_per_mass(z, m) + EP::dissipated_energy_per_mass(z);
+}
+
+// A bar of `cells` cells over [0, length], one centred particle per cell, the left half moving at
+// +v0 and the right half at -v0 (free ends).
+template <class P>
+struct ImpactBar {
+  Grid<1> grid;
+  ParticlesOf<P> particles;
+  std::vector<typename P::Material> materials;
+  Boundaries<1> boundaries{};
+  ImpactBar(int cells, double length, double v0, const typename P::Material& m) {
+    grid.cells = {cells};
+    grid.cell_size = Eigen::Matrix<double, 1, 1>(length / cells);
+    const double h = length / cells;
+    particles.resize(cells);
+    for (int p = 0; p < cells; ++p) {
+      particles.position(0, p) = (p + 0.5) * h;
+      particles.volume[p] = h;
+      particles.mass[p] = rho * h;
+      particles.state.col(p) << 0.0, (p < cells / 2 ? v0 : -v0);
+      particles.material[p] = 0;
+      particles.id[p] = p;
+    }
+    particles.internal.setZero();
+    materials.push_back(m);
+  }
+};
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_radial_return_lands_on_the_yield_surface_and_removes_its_own_energy) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const EP::Material m(E, rho, flow(5e9, 15e9));
+  const double h = m.flow.hardening();
+  for (int trial = 0; trial < 200; ++trial) {
+    physics::Internal<EP> z(2e-3 * u(rng), 0, 0);
+    z[1] = std::abs(z[0]) + 1e-3 * std::abs(u(rng));  // p >= |eps_p|
+    EP::State q(3e9 * u(rng) / rho, 10 * u(rng));
+    const EP::State q0 = q;
+    const physics::Internal<EP> z0 = z;
+    EP::particle_step(q, z, m, 1e-6);
+    const double back = m.flow.kinematic_hardening * z[0];
+    const double f = std::abs(q[0] * rho - back) - m.flow.yield_radius(z[1]);
+    const double dp = z[1] - z0[1];
+    BOOST_TEST(q[1] == q0[1]);  // velocities untouched
+    if (dp == 0) {
+      BOOST_TEST(f <= 0.0);  // elastic: nothing changed
+      BOOST_TEST((q == q0));
+      continue;
+    }
+    BOOST_TEST(std::abs(f) <= 1e-15 * sigma_y * 10);
+    const double drop = total_energy(q0, z0, m) - total_energy(q, z, m);
+    const double expected = 0.5 * (E + h) * dp * dp / rho;
+    BOOST_TEST(drop == expected, boost::test_tools::tolerance(1e-6));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(perzyna_is_solved_to_round_off_for_any_relaxation_time) {
+  const double k = E + 15e9, f_trial = 3e8;
+  for (const double n : {1.0, 4.37})
+    for (const double ratio : {1e-3, 1.0, 2e7, 1e12, 1e20}) {
+      const PlasticFlow fl = flow(0, 15e9, 1.0, n);
+      const double dp = fl.increment(f_trial, k, ratio);  // dt = ratio, tau = 1
+      BOOST_TEST(dp > 0);
+      BOOST_TEST(dp <= f_trial / k);
+      // dp - (dt / tau) <(f_trial - k dp) / sigma_y>^n changes sign within 8 ulps of dp: the
+      // root to round-off.
+      const auto residual = [&](double x) {
+        return x - ratio * std::pow(std::max(0.0, (f_trial - k * x) / sigma_y), n);
+      };
+      const double ulps = 8 * std::numeric_limits<double>::epsilon();
+      BOOST_TEST(residual(dp * (1 - ulps)) <= 0.0);
+      BOOST_TEST(residual(dp * (1 + ulps)) >= 0.0);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(perzyna_tends_to_the_rate_independent_return_like_tau_to_the_one_over_n) {
+  const double k = E + 15e9, f_trial = 3e8, dt = 1e-7;
+  const double n = 4.37, plastic = f_trial / k;
+  double previous = 0;
+  for (const double tau : {1e-9, 1e-12, 1e-15}) {
+    const double gap = plastic - flow(0, 15e9, tau, n).increment(f_trial, k, dt);
+    BOOST_TEST(gap > 0);
+    if (previous > 0)  // tau 1000 times smaller: the gap 1000^(1/n) times smaller
+      BOOST_TEST(previous / gap == std::pow(1e3, 1 / n), boost::test_tools::tolerance(2e-2));
+    previous = gap;
+  }
+}
+
+// Renaud's thesis (ch. 4), uniaxial stress: an impact at +-v0 above sigma_y / (rho c) sends an
+// elastic precursor at c and a plastic front at c_p = sqrt(E_t / rho), E_t = E h / (E + h); between
+// the plastic fronts v = 0 and |sigma| = sigma_y (1 - c_p / c) + rho c_p v0.
+BOOST_AUTO_TEST_CASE(a_bar_impact_reaches_the_exact_plastic_plateau_and_never_gains_energy) {
+  const double c_kin = 15e9, v0 = 30.55, length = 6.0, h = c_kin;
+  const double c = std::sqrt(E / rho), et = E * h / (E + h), cp = std::sqrt(et / rho);
+  const double plateau = sigma_y * (1 - cp / c) + rho * cp * v0;
+  for (const TimeScheme time : {TimeScheme::euler, TimeScheme::rk2}) {
+    ImpactBar<EP> bar(400, length, v0, EP::Material(E, rho, flow(0, c_kin)));
+    Stepper<EP> stepper(bar.grid, bar.boundaries, StepperOptions{time});
+    stepper.rebuild(bar.particles, bar.materials);
+    const double dx = length / 400, dt = 0.9 * dx / c, t_end = 4e-4;
+    const auto energy = [&] {
+      double e = 0;
+      for (int p = 0; p < bar.particles.size(); ++p)
+        e += bar.particles.mass[p] * total_energy(bar.particles.state.col(p),
+                                                  bar.particles.internal.col(p), bar.materials[0]);
+      return e;
+    };
+    const double e0 = energy();
+    double t = 0;
+    bool bounded = true;
+    while (t < t_end) {
+      BOOST_REQUIRE(stepper.step(bar.particles, bar.materials, t, dt));
+      t += dt;
+      bounded = bounded && energy() <= e0 * (1 + 1e-12);
+    }
+    BOOST_TEST(bounded);
+    // The plateau: the cells well inside the plastic fronts (at 3 +- c_p t = 3 +- 0.535 m, smeared
+    // over about 0.3 m by the first-order upwinding).
+    double sum = 0, eps_p = 0;
+    int count = 0;
+    for (int p = 0; p < bar.particles.size(); ++p) {
+      const double x = bar.particles.position(0, p);
+      if (std::abs(x - 0.5 * length) > 0.3 * cp * t) continue;
+      sum += bar.particles.state(0, p) * rho;
+      eps_p += bar.particles.internal(0, p);
+      ++count;
+    }
+    BOOST_TEST(count > 10);
+    BOOST_TEST(-sum / count == plateau, boost::test_tools::tolerance(1e-4));
+    // eps_p on the plateau: (|sigma| - sigma_y) / h
+    BOOST_TEST(-eps_p / count == (plateau - sigma_y) / h, boost::test_tools::tolerance(1e-3));
+    // Dissipation: positive, and what the returns took from the mechanical energy.
+    double dissipated = 0;
+    for (int p = 0; p < bar.particles.size(); ++p)
+      dissipated += bar.particles.mass[p] * bar.particles.internal(2, p);
+    BOOST_TEST(dissipated > 0);
+    BOOST_TEST(dissipated < e0);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(an_elastic_material_in_the_plastic_physics_steps_as_the_elastic_bar) {
+  ImpactBar<EP> plastic(60, 6.0, 30.55, EP::Material(E, rho));  // infinite yield stress
+  ImpactBar<ElasticBar> elastic(60, 6.0, 30.55, ElasticBar::Material(E, rho));
+  for (const TimeScheme time : {TimeScheme::euler, TimeScheme::rk2}) {
+    Stepper<EP> a(plastic.grid, plastic.boundaries, StepperOptions{time});
+    Stepper<ElasticBar> b(elastic.grid, elastic.boundaries, StepperOptions{time});
+    a.rebuild(plastic.particles, plastic.materials);
+    b.rebuild(elastic.particles, elastic.materials);
+    const double dt = 0.8 * 0.1 / std::sqrt(E / rho);
+    for (int s = 0; s < 100; ++s) {
+      a.step(plastic.particles, plastic.materials, s * dt, dt);
+      b.step(elastic.particles, elastic.materials, s * dt, dt);
+    }
+    BOOST_TEST((plastic.particles.state - elastic.particles.state).cwiseAbs().maxCoeff() == 0.0);
+    BOOST_TEST(plastic.particles.internal.cwiseAbs().maxCoeff() == 0.0);
+  }
+}
