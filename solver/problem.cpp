@@ -17,6 +17,9 @@ namespace {
 ElasticBar::Material material_of(const scene::MaterialSpec& m, ElasticBar*) {
   return {m.young, m.density};
 }
+ElastoPlasticBar::Material material_of(const scene::MaterialSpec& m, ElastoPlasticBar*) {
+  return {m.young, m.density, m.flow};  // linear_elastic: an infinite yield stress
+}
 PlaneStrain::Material material_of(const scene::MaterialSpec& m, PlaneStrain*) {
   return {m.young, m.poisson, m.density};
 }
@@ -88,6 +91,13 @@ void set_exact(const scene::Scene& scene, Problem<ElasticBar>& problem) {
   problem.exact = [s = *solution](const Eigen::Matrix<double, 1, 1>& x, double t) {
     return ElasticBar::State(s.stress(x[0], t), s.velocity(x[0], t));
   };
+}
+
+void set_exact(const scene::Scene& scene, Problem<ElastoPlasticBar>&) {
+  if (scene.exact)
+    throw scene::SceneError(scene.source +
+                            ": exact: value \"bar\" cannot be used here: the exact bar solution "
+                            "is elastic and the scene has plastic materials");
 }
 
 // The plane wave of the scene, physical state at x and t: v = A sin(k . x - c |k| t) along the
@@ -242,6 +252,7 @@ Problem<Physics> make_problem(const scene::Scene& scene) {
 }
 
 template Problem<ElasticBar> make_problem<ElasticBar>(const scene::Scene&);
+template Problem<ElastoPlasticBar> make_problem<ElastoPlasticBar>(const scene::Scene&);
 template Problem<PlaneStrain> make_problem<PlaneStrain>(const scene::Scene&);
 
 }  // namespace dgmpm

@@ -9,6 +9,7 @@
 #include <dgmpm/grid.hpp>
 #include <dgmpm/particles.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
+#include <dgmpm/physics/elastoplastic_bar.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 
 #include <functional>
@@ -48,12 +49,16 @@ using BarProblem = Problem<ElasticBar>;
 template <class Physics>
 Problem<Physics> make_problem(const scene::Scene& scene);
 
-// The one place where a scene's dimension picks its physics: returns
-// f(std::type_identity<Physics>{}) for the scene's physics (1D: ElasticBar, 2D: PlaneStrain).
+// The one place where a scene's dimension and material models pick its physics: returns
+// f(std::type_identity<Physics>{}) for the scene's physics (1D: ElasticBar, or ElastoPlasticBar
+// when a material yields; 2D: PlaneStrain).
 template <class F>
 decltype(auto) with_physics(const scene::Scene& scene, F&& f) {
+  bool plastic = false;
+  for (const auto& m : scene.materials) plastic = plastic || m.plastic();
   switch (scene.dimension) {
     case 1:
+      if (plastic) return f(std::type_identity<ElastoPlasticBar>{});
       return f(std::type_identity<ElasticBar>{});
     case 2:
       return f(std::type_identity<PlaneStrain>{});

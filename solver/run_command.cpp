@@ -81,6 +81,10 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
   else  // a body at rest: the loads' work below is the reference
     std::printf("energy (%s): initial %.12g, final %.12g\n", unit, s.energy_initial,
                 s.energy_final);
+  if (s.energy_stored && s.energy_dissipated)  // materials that yield: the final energy's parts
+    std::printf("  of which stored by hardening %.12g, dissipated by plastic flow %.12g (the "
+                "rest kinetic and elastic)\n",
+                *s.energy_stored, *s.energy_dissipated);
   if (s.boundary_work != 0)
     std::printf("work of the boundary loads %.12g %s; energy - initial energy - work %.6g %s\n",
                 s.boundary_work, unit, s.energy_final - s.energy_initial - s.boundary_work, unit);

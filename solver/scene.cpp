@@ -207,6 +207,11 @@ class Parser {
                         s.dimension);
     s.materials = parse_materials(
         require(doc, "", "materials", "an object of materials, e.g. {\"steel\": {...}}"));
+    for (const MaterialSpec& m : s.materials)
+      if (m.model != "linear_elastic" && s.dimension > 1)
+        refuse(key_path(key_path("materials", m.name), "model"), doc["materials"][m.name]["model"],
+               "is not available in 2D yet (plane-strain plasticity is not built)",
+               "\"linear_elastic\" in 2D; \"elastoplastic\" or \"elasto_viscoplastic\" in 1D");
     s.time = parse_time(require(doc, "", "time", "an object with at least \"end\""));
     s.bodies = parse_bodies(require(doc, "", "bodies", "an array of bodies"), s);
     check_seeds(s, doc["bodies"]);
@@ -473,12 +478,26 @@ class Parser {
     for (auto it = m.begin(); it != m.end(); ++it) {
       const std::string path = key_path("materials", it.key());
       const json& v = it.value();
-      check_object(v, path, {"model", "young", "poisson", "density"});
       MaterialSpec mat;
       mat.name = it.key();
       if (const json* model = find(v, "model")) {
-        choice<int>(*model, key_path(path, "model"), {{"linear_elastic", 0}});
-        mat.model = "linear_elastic";
+        const int kind =
+            choice<int>(*model, key_path(path, "model"),
+                        {{"linear_elastic", 0}, {"elastoplastic", 1}, {"elasto_viscoplastic", 2}});
+        mat.model = model->get<std::string>();
+        if (kind == 0) check_object(v, path, {"model", "young", "poisson", "density"});
+        if (kind == 1)
+          check_object(v, path,
+                       {"model", "young", "poisson", "density", "yield_stress",
+                        "isotropic_hardening", "kinematic_hardening"});
+        if (kind == 2)
+          check_object(v, path,
+                       {"model", "young", "poisson", "density", "yield_stress",
+                        "isotropic_hardening", "kinematic_hardening", "relaxation_time",
+                        "rate_exponent"});
+        if (kind > 0) mat.flow = parse_flow(v, path, kind == 2);
+      } else {
+        check_object(v, path, {"model", "young", "poisson", "density"});
       }
       mat.young = positive(require(v, path, "young", "a number > 0"), key_path(path, "young"));
       mat.density =
@@ -492,6 +511,30 @@ class Parser {
       out.push_back(mat);
     }
     return out;
+  }
+
+  // The yield stress, hardening moduli and (viscoplastic) relaxation of a plastic material.
+  PlasticFlow parse_flow(const json& v, const std::string& path, bool viscous) const {
+    PlasticFlow flow;
+    flow.yield_stress = positive(require(v, path, "yield_stress", "a number > 0 (Pa)"),
+                                 key_path(path, "yield_stress"));
+    for (const auto& [key, modulus] : {std::pair{"isotropic_hardening", &flow.isotropic_hardening},
+                                       std::pair{"kinematic_hardening", &flow.kinematic_hardening}})
+      if (const json* h = find(v, key)) {
+        const std::string allowed = "a number >= 0 (Pa)";
+        *modulus = number(*h, key_path(path, key), allowed);
+        if (!(*modulus >= 0)) not_allowed(key_path(path, key), *h, allowed);
+      }
+    if (viscous) {
+      flow.relaxation_time = positive(require(v, path, "relaxation_time", "a number > 0 (s)"),
+                                      key_path(path, "relaxation_time"));
+      if (const json* n = find(v, "rate_exponent")) {
+        const std::string allowed = "a number >= 1";
+        flow.rate_exponent = number(*n, key_path(path, "rate_exponent"), allowed);
+        if (!(flow.rate_exponent >= 1)) not_allowed(key_path(path, "rate_exponent"), *n, allowed);
+      }
+    }
+    return flow;
   }
 
   TimeSpec parse_time(const json& t) const {

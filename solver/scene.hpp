@@ -6,6 +6,7 @@
 #include <dgmpm/boundary.hpp>
 #include <dgmpm/dg_operator.hpp>
 #include <dgmpm/discretisation.hpp>
+#include <dgmpm/physics/plastic_flow.hpp>
 #include <stability/options.hpp>
 
 #include <array>
@@ -39,8 +40,10 @@ struct GridSpec {
 
 struct MaterialSpec {
   std::string name;
-  std::string model = "linear_elastic";
+  std::string model = "linear_elastic";  // or "elastoplastic", "elasto_viscoplastic"
   double young = 0, poisson = 0, density = 0;
+  PlasticFlow flow;  // plastic models: yield stress (infinite for linear_elastic), hardening
+  bool plastic() const { return model != "linear_elastic"; }
 };
 
 struct BodySpec {

@@ -91,6 +91,8 @@ nlohmann::json RunSummary::to_json() const {
   j["layout_analysis_seconds"] = layout_analysis_seconds;
   j["energy_initial"] = energy_initial;
   j["energy_final"] = energy_final;
+  if (energy_stored) j["energy_stored"] = *energy_stored;
+  if (energy_dissipated) j["energy_dissipated"] = *energy_dissipated;
   j["boundary_work"] = boundary_work;
   if (stress_errors && velocity_errors) {
     const auto norms = [](const ErrorNorms& e) {
@@ -471,11 +473,13 @@ typename Simulation<Physics>::Energy Simulation<Physics>::energy_parts() const {
     const Energy ei = particle_energy(i);
     e.kinetic += ei.kinetic;
     e.elastic += ei.elastic;
+    e.stored += ei.stored;
+    e.dissipated += ei.dissipated;
   }
   if (halo_) {
-    std::array<double, 2> sums{e.kinetic, e.elastic};
+    std::array<double, 4> sums{e.kinetic, e.elastic, e.stored, e.dissipated};
     halo_->comm().sum(sums);
-    e = {sums[0], sums[1]};
+    e = {sums[0], sums[1], sums[2], sums[3]};
   }
   return e;
 }
@@ -483,9 +487,14 @@ typename Simulation<Physics>::Energy Simulation<Physics>::energy_parts() const {
 template <class Physics>
 typename Simulation<Physics>::Energy Simulation<Physics>::particle_energy(int i) const {
   const auto& p = problem_.particles;
-  return {p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i)),
-          p.mass[i] *
-              Physics::elastic_energy_per_mass(p.state.col(i), problem_.materials[p.material[i]])};
+  const auto& m = problem_.materials[p.material[i]];
+  Energy e{p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i)),
+           p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i), m)};
+  if constexpr (dissipative) {
+    e.stored = p.mass[i] * Physics::stored_energy_per_mass(p.internal.col(i), m);
+    e.dissipated = p.mass[i] * Physics::dissipated_energy_per_mass(p.internal.col(i));
+  }
+  return e;
 }
 
 template <class Physics>
@@ -647,12 +656,15 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   output::StreamedFile streamed;
   output::CommittedFile committed;
   const std::string history_path = directory + "/energy.csv";
-  const char* history_header = "step,time,dt,kinetic,elastic,total,boundary_work\n";
+  const char* history_header =
+      dissipative ? "step,time,dt,kinetic,elastic,stored,dissipated,total,boundary_work\n"
+                  : "step,time,dt,kinetic,elastic,total,boundary_work\n";
   // Energies are sums over the ranks: every rank computes them, rank 0 writes.
   const auto write_history = [&](std::ostream* out, double dt, const Energy& e) {
     if (!out) return;
-    *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ','
-         << e.total() << ',' << work_ << '\n';
+    *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ',';
+    if (dissipative) *out << e.stored << ',' << e.dissipated << ',';
+    *out << e.total() << ',' << work_ << '\n';
   };
   std::ostream* history = nullptr;
   const bool commits = checkpoints || resumed;
@@ -842,7 +854,12 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   // MPM's load power is not tracked: null in the summary rather than a zero that means nothing.
   summary.boundary_work = mpm_ ? std::numeric_limits<double>::quiet_NaN() : work_;
   if (time_control_) summary.layouts_analysed = time_control_->layouts_analysed();
-  summary.energy_final = energy();
+  const Energy final_energy = energy_parts();
+  summary.energy_final = final_energy.total();
+  if (dissipative) {
+    summary.energy_stored = final_energy.stored;
+    summary.energy_dissipated = final_energy.dissipated;
+  }
   if (problem_.exact) {
     const int n = owned_particles();
     Eigen::MatrixXd all(2 * ncomp + 1, n);  // computed, exact, volume: the serial run's sums
@@ -1037,6 +1054,7 @@ void Simulation<Physics>::restore(const std::string& path) {
 }
 
 template class Simulation<ElasticBar>;
+template class Simulation<ElastoPlasticBar>;
 template class Simulation<PlaneStrain>;
 
 }  // namespace dgmpm

@@ -10,6 +10,7 @@
 #include "solver/scene.hpp"
 #include "solver/time_step_control.hpp"
 
+#include <dgmpm/physics/contract.hpp>
 #include <dgmpm/stepper.hpp>
 
 #include <chrono>
@@ -39,6 +40,8 @@ struct RunSummary {
   double layout_analysis_seconds = 0;       // of time_step_seconds: analysing new layouts
   double courant_min = 0, courant_max = 0;  // c_max dt / h of the controlled steps
   double energy_initial = 0, energy_final = 0;
+  // Materials that yield: the final energy's parts stored by hardening and dissipated.
+  std::optional<double> energy_stored, energy_dissipated;
   double boundary_work = 0;  // work done on the body by boundary loads (traction, velocity)
   std::optional<ErrorNorms> stress_errors, velocity_errors;
   int layouts_analysed = 0;
@@ -140,10 +143,13 @@ class Simulation final : public SimulationBase {
   }
   // Kinetic and elastic energy of the particles (per unit cross-section in 1D, per unit
   // thickness in 2D).
+  // With materials that yield, also the energy stored by hardening and the energy dissipated so
+  // far (zero otherwise), which the total includes.
   struct Energy {
-    double kinetic = 0, elastic = 0;
-    double total() const { return kinetic + elastic; }
+    double kinetic = 0, elastic = 0, stored = 0, dissipated = 0;
+    double total() const { return kinetic + elastic + stored + dissipated; }
   };
+  static constexpr bool dissipative = physics::Dissipative<Physics>;
   Energy energy_parts() const;
   double energy() const { return energy_parts().total(); }
   // Work done on the body by the boundary loads so far (DGMPM; trapezoidal in time).

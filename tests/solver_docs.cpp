@@ -33,14 +33,14 @@ std::vector<std::string> json_blocks(const std::string& path) {
 }
 
 template <class Physics>
-void run_briefly(const scene::Scene& scene) {
+void run_briefly(const scene::Scene& scene, bool loaded) {
   Simulation<Physics> sim(scene);
   const double e0 = sim.energy();
   for (int k = 0; k < 20; ++k) sim.step(sim.stable_time_step());
   BOOST_TEST(sim.physical_state().allFinite());
   // Something happens: the bodies move or the loads do work.
   BOOST_TEST((e0 > 0 || sim.energy() > 0));
-  if (scene.method == scene::Method::dgmpm) BOOST_TEST(sim.boundary_work() != 0.0);
+  if (loaded && scene.method == scene::Method::dgmpm) BOOST_TEST(sim.boundary_work() != 0.0);
 }
 
 }  // namespace
@@ -53,10 +53,12 @@ BOOST_AUTO_TEST_CASE(readme_scenes_parse_and_run) {
       nlohmann::json doc = nlohmann::json::parse(blocks[k]);
       doc.erase("output");  // nothing written by the test
       const scene::Scene scene = scene::parse_scene(doc, "README");
-      if (scene.dimension == 1)
-        run_briefly<ElasticBar>(scene);
-      else
-        run_briefly<PlaneStrain>(scene);
+      const std::string sides = doc.value("boundaries", nlohmann::json::object()).dump();
+      const bool loaded = sides.find("traction") != std::string::npos ||
+                          sides.find("velocity") != std::string::npos;
+      with_physics(scene, [&](auto physics) {
+        run_briefly<typename decltype(physics)::type>(scene, loaded);
+      });
     }
   }
 }
