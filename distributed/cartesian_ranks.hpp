@@ -8,14 +8,19 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <array>
+#include <type_traits>
+
 #include <vector>
 
 namespace dgmpm::distributed {
 
 // The Cartesian topology over `world`'s ranks for axes periodic as given (no reordering: rank r
-// of `world` is rank r of the result); `dims` receives the ranks along each axis.
+// of `world` is rank r of the result); `dims` receives the ranks along each axis: MPI_Dims_create's
+// layout, or, given the grid's `cells` and that layout would cut an axis too thin, rank_layout's.
 inline MPI_Comm cartesian_communicator(MPI_Comm world, const std::vector<bool>& periodic,
-                                       std::vector<int>& dims) {
+                                       std::vector<int>& dims, const std::vector<int>& cells = {}) {
   int size = 1;
   MPI_Comm_size(world, &size);
   const int n = static_cast<int>(periodic.size());
@@ -23,6 +28,18 @@ inline MPI_Comm cartesian_communicator(MPI_Comm world, const std::vector<bool>& 
   std::vector<int> periods(n);
   for (int l = 0; l < n; ++l) periods[l] = periodic[l] ? 1 : 0;
   MPI_Dims_create(size, n, dims.data());
+  if (static_cast<int>(cells.size()) == n) {
+    const auto choose = [&]<int D>(std::integral_constant<int, D>) {
+      std::array<int, D> c{}, p{};
+      std::array<bool, D> per{};
+      for (int l = 0; l < D; ++l) c[l] = cells[l], p[l] = dims[l], per[l] = periodic[l];
+      const auto chosen = rank_layout<D>(size, c, per, p);
+      std::copy(chosen.begin(), chosen.end(), dims.begin());
+    };
+    if (n == 1) choose(std::integral_constant<int, 1>{});
+    if (n == 2) choose(std::integral_constant<int, 2>{});
+    if (n == 3) choose(std::integral_constant<int, 3>{});
+  }
   MPI_Comm comm = MPI_COMM_NULL;
   MPI_Cart_create(world, n, dims.data(), periods.data(), 0, &comm);
   return comm;

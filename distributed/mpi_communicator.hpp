@@ -28,10 +28,11 @@ class MpiCommunicator final : public Communicator {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
 
-  std::vector<int> cartesian_layout(const std::vector<bool>& periodic) override {
+  std::vector<int> cartesian_layout(const std::vector<bool>& periodic,
+                                    const std::vector<int>& cells) override {
     release();
     std::vector<int> dims;
-    cartesian_ = cartesian_communicator(world_, periodic, dims);
+    cartesian_ = cartesian_communicator(world_, periodic, dims, cells);
     comm_ = cartesian_;
     return dims;
   }

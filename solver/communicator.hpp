@@ -15,9 +15,11 @@ class Communicator {
   virtual ~Communicator() = default;
   virtual int rank() const = 0;
   virtual int size() const = 0;
-  // Lays the ranks out over the axes of a grid (periodic where it is): the number of ranks along
-  // each axis, the first axis varying slowest in the rank numbers (lib/dgmpm/decomposition.hpp).
-  virtual std::vector<int> cartesian_layout(const std::vector<bool>& periodic) = 0;
+  // Lays the ranks out over the axes of a grid of `cells` (periodic where it is): the number of
+  // ranks along each axis (rank_layout, lib/dgmpm/decomposition.hpp), the first axis varying
+  // slowest in the rank numbers.
+  virtual std::vector<int> cartesian_layout(const std::vector<bool>& periodic,
+                                            const std::vector<int>& cells) = 0;
   // Sends send[j] to partners[j] and receives recv[j] from it (sizes need not be known ahead).
   // partners: distinct ranks, each rank listing the other when it is listed.
   virtual void exchange(const std::vector<int>& partners,

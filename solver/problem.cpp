@@ -20,6 +20,12 @@ ElasticBar::Material material_of(const scene::MaterialSpec& m, ElasticBar*) {
 ElastoPlasticBar::Material material_of(const scene::MaterialSpec& m, ElastoPlasticBar*) {
   return {m.young, m.density, m.flow};  // linear_elastic: an infinite yield stress
 }
+PlaneStrainPlastic::Material material_of(const scene::MaterialSpec& m, PlaneStrainPlastic*) {
+  return {m.young, m.poisson, m.density, m.flow};
+}
+UniaxialStrainPlastic::Material material_of(const scene::MaterialSpec& m, UniaxialStrainPlastic*) {
+  return {m.young, m.poisson, m.density, m.flow};
+}
 PlaneStrain::Material material_of(const scene::MaterialSpec& m, PlaneStrain*) {
   return {m.young, m.poisson, m.density};
 }
@@ -98,6 +104,20 @@ void set_exact(const scene::Scene& scene, Problem<ElastoPlasticBar>&) {
     throw scene::SceneError(scene.source +
                             ": exact: value \"bar\" cannot be used here: the exact bar solution "
                             "is elastic and the scene has plastic materials");
+}
+
+void set_exact(const scene::Scene& scene, Problem<UniaxialStrainPlastic>&) {
+  if (scene.exact)
+    throw scene::SceneError(scene.source +
+                            ": exact: value \"bar\" cannot be used here: the exact bar solution "
+                            "is in uniaxial stress and the scene in uniaxial strain");
+}
+
+void set_exact(const scene::Scene& scene, Problem<PlaneStrainPlastic>&) {
+  if (scene.plane_wave || scene.exact)
+    throw scene::SceneError(scene.source + ": " + (scene.plane_wave ? "plane_wave" : "exact") +
+                            ": cannot be used here: the plane wave is elastic and the scene has "
+                            "plastic materials");
 }
 
 // The plane wave of the scene, physical state at x and t: v = A sin(k . x - c |k| t) along the
@@ -254,5 +274,7 @@ Problem<Physics> make_problem(const scene::Scene& scene) {
 template Problem<ElasticBar> make_problem<ElasticBar>(const scene::Scene&);
 template Problem<ElastoPlasticBar> make_problem<ElastoPlasticBar>(const scene::Scene&);
 template Problem<PlaneStrain> make_problem<PlaneStrain>(const scene::Scene&);
+template Problem<PlaneStrainPlastic> make_problem<PlaneStrainPlastic>(const scene::Scene&);
+template Problem<UniaxialStrainPlastic> make_problem<UniaxialStrainPlastic>(const scene::Scene&);
 
 }  // namespace dgmpm

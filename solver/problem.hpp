@@ -11,6 +11,8 @@
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/physics/elastoplastic_bar.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
+#include <dgmpm/physics/plane_strain_plastic.hpp>
+#include <dgmpm/physics/uniaxial_strain_plastic.hpp>
 
 #include <functional>
 #include <string>
@@ -49,18 +51,21 @@ using BarProblem = Problem<ElasticBar>;
 template <class Physics>
 Problem<Physics> make_problem(const scene::Scene& scene);
 
-// The one place where a scene's dimension and material models pick its physics: returns
-// f(std::type_identity<Physics>{}) for the scene's physics (1D: ElasticBar, or ElastoPlasticBar
-// when a material yields; 2D: PlaneStrain).
+// The one place where a scene's dimension, strain state and material models pick its physics:
+// returns f(std::type_identity<Physics>{}) for the scene's physics (1D: ElasticBar, or
+// ElastoPlasticBar when a material yields, UniaxialStrainPlastic for "strain":
+// "uniaxial_strain"; 2D: PlaneStrain, or PlaneStrainPlastic when a material yields).
 template <class F>
 decltype(auto) with_physics(const scene::Scene& scene, F&& f) {
   bool plastic = false;
   for (const auto& m : scene.materials) plastic = plastic || m.plastic();
   switch (scene.dimension) {
     case 1:
+      if (scene.uniaxial_strain) return f(std::type_identity<UniaxialStrainPlastic>{});
       if (plastic) return f(std::type_identity<ElastoPlasticBar>{});
       return f(std::type_identity<ElasticBar>{});
     case 2:
+      if (plastic) return f(std::type_identity<PlaneStrainPlastic>{});
       return f(std::type_identity<PlaneStrain>{});
   }
   throw scene::SceneError(scene.source + ": dimension: value " + std::to_string(scene.dimension) +

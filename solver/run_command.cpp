@@ -85,7 +85,7 @@ void print_human(const scene::Scene& scene, const SimulationBase& sim, const Run
     std::printf("  of which stored by hardening %.12g, dissipated by plastic flow %.12g (the "
                 "rest kinetic and elastic)\n",
                 *s.energy_stored, *s.energy_dissipated);
-  if (s.boundary_work != 0)
+  if (std::isfinite(s.boundary_work) && s.boundary_work != 0)  // MPM: NaN, not measured
     std::printf("work of the boundary loads %.12g %s; energy - initial energy - work %.6g %s\n",
                 s.boundary_work, unit, s.energy_final - s.energy_initial - s.boundary_work, unit);
   if (s.stress_errors) {

@@ -192,7 +192,7 @@ class Parser {
     check_object(doc, "",
                  {"dimension", "method", "update", "grid", "materials", "bodies", "boundaries",
                   "time", "particles_move", "fill_correction", "formulation", "flux", "plane_wave",
-                  "exact", "output"});
+                  "exact", "output", "strain"});
     s.dimension = parse_dimension(require(doc, "", "dimension", "1"));
     if (const json* m = find(doc, "method"))
       s.method =
@@ -207,17 +207,20 @@ class Parser {
                         s.dimension);
     s.materials = parse_materials(
         require(doc, "", "materials", "an object of materials, e.g. {\"steel\": {...}}"));
-    for (const MaterialSpec& m : s.materials)
-      if (m.model != "linear_elastic" && s.dimension > 1)
-        refuse(key_path(key_path("materials", m.name), "model"), doc["materials"][m.name]["model"],
-               "is not available in 2D yet (plane-strain plasticity is not built)",
-               "\"linear_elastic\" in 2D; \"elastoplastic\" or \"elasto_viscoplastic\" in 1D");
     s.time = parse_time(require(doc, "", "time", "an object with at least \"end\""));
     s.bodies = parse_bodies(require(doc, "", "bodies", "an array of bodies"), s);
     check_seeds(s, doc["bodies"]);
     if (const json* b = find(doc, "boundaries")) parse_boundaries(*b, s);
     if (const json* p = find(doc, "particles_move"))
       s.particles_move = boolean(*p, "particles_move");
+    if (const json* k = find(doc, "strain")) {
+      const std::string allowed =
+          "\"uniaxial_stress\" (a bar, the default) or \"uniaxial_strain\" (a plane wave), 1D "
+          "only";
+      if (s.dimension != 1) refuse("strain", *k, "is a 1D option", allowed);
+      s.uniaxial_strain =
+          choice<int>(*k, "strain", {{"uniaxial_stress", 0}, {"uniaxial_strain", 1}}) == 1;
+    }
     if (const json* f = find(doc, "fill_correction"))
       refuse("fill_correction", *f,
              "is no longer read: \"formulation\": \"consistent\" (the default) preserves "

@@ -109,6 +109,9 @@ struct Scene {
   std::vector<BoundarySpec> boundaries[3][2];
   TimeSpec time;
   bool particles_move = false;
+  // 1D: a bar in uniaxial stress (modulus E), or a plane wave in uniaxial strain (modulus
+  // lambda + 2 mu; sigma_yy = sigma_zz from the plastic strain).
+  bool uniaxial_strain = false;
   Formulation formulation = Formulation::consistent;  // DGMPM
   std::optional<std::string> exact;                   // "bar" (1D), "plane_wave" (2D)
   // 2D: a smooth plane wave added to the bodies' initial state on a doubly periodic grid:

@@ -233,7 +233,8 @@ void Simulation<Physics>::distribute(Communicator& ranks) {
                             "\" runs on one rank; allowed on " + count + ": \"dgmpm\"");
   const auto& grid = problem_.grid;
   const std::vector<int> dims =
-      ranks.cartesian_layout(std::vector<bool>(grid.periodic.begin(), grid.periodic.end()));
+      ranks.cartesian_layout(std::vector<bool>(grid.periodic.begin(), grid.periodic.end()),
+                             std::vector<int>(grid.cells.begin(), grid.cells.end()));
   typename BlockDecomposition<dim>::Index layout{};
   std::copy(dims.begin(), dims.end(), layout.begin());
   // One ghost layer per stage.
@@ -488,8 +489,15 @@ template <class Physics>
 typename Simulation<Physics>::Energy Simulation<Physics>::particle_energy(int i) const {
   const auto& p = problem_.particles;
   const auto& m = problem_.materials[p.material[i]];
-  Energy e{p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i)),
-           p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i), m)};
+  Energy e{p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i)), 0.0};
+  // Where the elastic energy depends on the internal variables (plane strain's sigma_zz under
+  // plastic flow), the physics says so by taking them.
+  if constexpr (requires {
+                  Physics::elastic_energy_per_mass(p.state.col(i), p.internal.col(i), m);
+                })
+    e.elastic = p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i), p.internal.col(i), m);
+  else
+    e.elastic = p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i), m);
   if constexpr (dissipative) {
     e.stored = p.mass[i] * Physics::stored_energy_per_mass(p.internal.col(i), m);
     e.dissipated = p.mass[i] * Physics::dissipated_energy_per_mass(p.internal.col(i));
@@ -514,9 +522,11 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
   std::optional<Field> ex;
   if (problem_.exact) ex = exact_state(time_);
   const auto& p = problem_.particles;
-  // Columns: id, position, mass, volume, physical state, internal variables, exact state.
+  // Columns: id, position, mass, volume, physical state, internal variables, the physics' derived
+  // outputs, exact state.
   constexpr int kMass = 1 + dim, kVolume = 2 + dim, kState = 3 + dim;
-  constexpr int kInternal = kState + ncomp, kExact = kInternal + ParticleSet::n_internal;
+  constexpr int kInternal = kState + ncomp, kDerived = kInternal + ParticleSet::n_internal;
+  constexpr int kExact = kDerived + derived_count;
   Eigen::MatrixXd table(kExact + (ex ? ncomp : 0), s.cols());
   for (Eigen::Index i = 0; i < s.cols(); ++i) {
     table(0, i) = p.id[i];
@@ -525,6 +535,11 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
     table(kVolume, i) = p.volume[i];
     table.col(i).segment<ncomp>(kState) = s.col(i);
     table.col(i).segment<ParticleSet::n_internal>(kInternal) = p.internal.col(i);
+    if constexpr (derived_count > 0) {
+      const auto d =
+          Physics::derived(s.col(i), p.internal.col(i), problem_.materials[p.material[i]]);
+      for (int k = 0; k < derived_count; ++k) table(kDerived + k, i) = d[k];
+    }
     if (ex) table.col(i).segment<ncomp>(kExact) = ex->col(i);
   }
   if (halo_) table = halo_->gather(table);
@@ -533,6 +548,8 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
     out << (dim == 1 ? "id,x,mass,stress,velocity"
                      : "id,x,y,mass,volume,sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y");
     for (const char* name : Physics::internal_names) out << ',' << name;
+    if constexpr (derived_count > 0)
+      for (const char* name : Physics::derived_names) out << ',' << name;
     if (ex)
       out << (dim == 1 ? ",exact_stress,exact_velocity"
                        : ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,"
@@ -1056,5 +1073,7 @@ void Simulation<Physics>::restore(const std::string& path) {
 template class Simulation<ElasticBar>;
 template class Simulation<ElastoPlasticBar>;
 template class Simulation<PlaneStrain>;
+template class Simulation<PlaneStrainPlastic>;
+template class Simulation<UniaxialStrainPlastic>;
 
 }  // namespace dgmpm

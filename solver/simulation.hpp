@@ -150,6 +150,13 @@ class Simulation final : public SimulationBase {
     double total() const { return kinetic + elastic + stored + dissipated; }
   };
   static constexpr bool dissipative = physics::Dissipative<Physics>;
+  // Output columns the physics derives from a particle (none for elastic physics).
+  static constexpr int derived_count = [] {
+    if constexpr (physics::DerivedOutputs<Physics>)
+      return static_cast<int>(Physics::derived_names.size());
+    else
+      return 0;
+  }();
   Energy energy_parts() const;
   double energy() const { return energy_parts().total(); }
   // Work done on the body by the boundary loads so far (DGMPM; trapezoidal in time).

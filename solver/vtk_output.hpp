@@ -4,10 +4,12 @@
 // Files are written atomically, like every other output.
 
 #include <dgmpm/particles.hpp>
+#include <dgmpm/physics/contract.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <utility>
@@ -86,7 +88,8 @@ std::vector<PointData> point_data(const ParticleSet& particles,
       for (Eigen::Index i = 0; i < s.cols(); ++i) {
         const auto& m = materials[particles.material[i]];
         const double xx = s(PlaneStrain::sxx, i), yy = s(PlaneStrain::syy, i);
-        const double xy = s(PlaneStrain::sxy, i), z = PlaneStrain::sigma_zz(s.col(i), m);
+        const double xy = s(PlaneStrain::sxy, i),
+                     z = Physics::sigma_zz(s.col(i), m, particles.internal.col(i));
         zz.values.push_back(z);
         vm.values.push_back(
             std::sqrt(0.5 * ((xx - yy) * (xx - yy) + (yy - z) * (yy - z) + (z - xx) * (z - xx)) +
@@ -109,6 +112,19 @@ std::vector<PointData> point_data(const ParticleSet& particles,
   for (auto* d : {&mass, &volume, &id, &mat}) data.push_back(std::move(*d));
   for (int k = 0; k < ParticleSet::n_internal; ++k)  // the physics' internal variables
     data.push_back(detail::row(Physics::internal_names[k], particles.internal, k));
+  if constexpr (physics::DerivedOutputs<Physics>) {  // and its derived outputs not written above
+    constexpr int n = static_cast<int>(Physics::derived_names.size());
+    for (int k = 0; k < n; ++k) {
+      const std::string name = Physics::derived_names[k];
+      if (std::any_of(data.begin(), data.end(), [&](const PointData& d) { return d.name == name; }))
+        continue;
+      PointData d{name, 1, {}};
+      for (int i = 0; i < particles.size(); ++i)
+        d.values.push_back(Physics::derived(physical.col(i), particles.internal.col(i),
+                                            materials[particles.material[i]])[k]);
+      data.push_back(std::move(d));
+    }
+  }
   return data;
 }
 

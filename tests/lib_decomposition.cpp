@@ -230,3 +230,22 @@ BOOST_AUTO_TEST_CASE(more_ranks_than_cells_is_refused) {
                     std::invalid_argument);
   BOOST_CHECK_THROW(BlockDecomposition<1>(grid<1>({7}, {false}), {0}), std::invalid_argument);
 }
+
+// The rank layout: MPI's balanced one where it leaves every split axis kMinBlock cells per rank;
+// otherwise the fitting layout with the fewest cut faces (a thin periodic strip goes along its
+// length); MPI's when nothing fits (the decomposition then refuses it with its reason).
+BOOST_AUTO_TEST_CASE(thin_grids_are_split_along_their_length) {
+  using L = std::array<int, 2>;
+  // The plate, 4 ranks: MPI's 2 x 2 fits and is kept.
+  BOOST_TEST((rank_layout<2>(4, {33, 25}, {false, false}, {2, 2}) == L{2, 2}));
+  // A strip of 200 x 2 cells periodic along y: 2 x 2 would leave one cell per rank along y.
+  BOOST_TEST((rank_layout<2>(4, {200, 2}, {false, true}, {2, 2}) == L{4, 1}));
+  BOOST_TEST((rank_layout<2>(6, {3, 300}, {false, false}, {3, 2}) == L{1, 6}));
+  // MPI's layout is kept where it fits, even when another cuts fewer faces (runs keep their
+  // layouts); where it does not, the fewest cut faces: 7 cuts of 7 faces.
+  BOOST_TEST((rank_layout<2>(4, {40, 12}, {false, false}, {2, 2}) == L{2, 2}));
+  BOOST_TEST((rank_layout<2>(8, {400, 7}, {false, false}, {4, 2}) == L{8, 1}));
+  // Nothing fits: MPI's, refused later with the reason.
+  BOOST_TEST((rank_layout<2>(4, {3, 3}, {false, false}, {2, 2}) == L{2, 2}));
+  BOOST_TEST((rank_layout<1>(2, {50}, {false}, {2}) == std::array<int, 1>{2}));
+}

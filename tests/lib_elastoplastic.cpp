@@ -9,6 +9,7 @@
 
 #include <dgmpm/physics/contract.hpp>
 #include <dgmpm/physics/elastoplastic_bar.hpp>
+#include <dgmpm/physics/plane_strain_plastic.hpp>
 #include <dgmpm/stepper.hpp>
 
 #include <cmath>
@@ -197,4 +198,55 @@ BOOST_AUTO_TEST_CASE(an_elastic_material_in_the_plastic_physics_steps_as_the_ela
     BOOST_TEST((plastic.particles.state - elastic.particles.state).cwiseAbs().maxCoeff() == 0.0);
     BOOST_TEST(plastic.particles.internal.cwiseAbs().maxCoeff() == 0.0);
   }
+}
+
+// Plane strain: the return from random trial stresses lands on the yield surface, keeps the
+// plastic strain deviatoric, gives sigma_zz = nu (sigma_xx + sigma_yy) - E eps_p_zz (which is
+// sigma_zz's elastic increment rule followed by the return), and removes (3 mu + h) dp^2 / 2 of
+// energy.
+BOOST_AUTO_TEST_CASE(a_plane_strain_return_lands_on_the_surface_with_its_own_energy_drop) {
+  using PP = PlaneStrainPlastic;
+  static_assert(physics::DGPhysics<PP> && physics::ParticleStepPhysics<PP> &&
+                physics::Dissipative<PP>);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const PP::Material m(E, 0.3, rho, flow(3e9, 12e9));
+  const double mu = m.mu(), h = m.flow.hardening();
+  const auto total = [&](const PP::State& q, const physics::Internal<PP>& z) {
+    return PP::kinetic_energy_per_mass(q) + PP::elastic_energy_per_mass(q, z, m) +
+           PP::stored_energy_per_mass(z, m) + PP::dissipated_energy_per_mass(z);
+  };
+  int returns = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    physics::Internal<PP> z = physics::Internal<PP>::Zero();
+    z[PP::exx] = 1e-3 * u(rng);
+    z[PP::eyy] = 1e-3 * u(rng);
+    z[PP::exy] = 1e-3 * u(rng);
+    z[PP::ezz] = -z[PP::exx] - z[PP::eyy];
+    z[PP::equivalent_plastic_strain] = 3e-3 * std::abs(u(rng));
+    PP::State q;
+    q << 1e9 * u(rng) / rho, 1e9 * u(rng) / rho, 5e8 * u(rng) / rho, 5 * u(rng), 5 * u(rng);
+    const PP::State q0 = q;
+    const physics::Internal<PP> z0 = z;
+    PP::particle_step(q, z, m, 1e-6);
+    const double dp = z[PP::equivalent_plastic_strain] - z0[PP::equivalent_plastic_strain];
+    BOOST_TEST(q[PP::vx] == q0[PP::vx]);
+    BOOST_TEST(q[PP::vy] == q0[PP::vy]);
+    BOOST_TEST(std::abs(z[PP::exx] + z[PP::eyy] + z[PP::ezz]) <= 1e-17);
+    if (dp == 0) continue;
+    ++returns;
+    // The yield function after the return, written out here from the stresses.
+    const PP::State s = PP::physical(q, m);
+    const double szz = PP::sigma_zz(s, m, z);
+    const double elastic_zz = 0.3 * (s[0] + s[1]) - E * z[PP::ezz];
+    BOOST_TEST(szz == elastic_zz);
+    const double mean = (s[0] + s[1] + szz) / 3, c = 2.0 / 3.0 * m.flow.kinematic_hardening;
+    const double a = s[0] - mean - c * z[PP::exx], b = s[1] - mean - c * z[PP::eyy];
+    const double d = szz - mean - c * z[PP::ezz], e = s[2] - c * z[PP::exy];
+    const double eq = std::sqrt(1.5 * (a * a + b * b + d * d + 2 * e * e));
+    BOOST_TEST(std::abs(eq - m.flow.yield_radius(z[PP::equivalent_plastic_strain])) <= 1e-13 * sigma_y);
+    const double drop = total(q0, z0) - total(q, z);
+    BOOST_TEST(drop == 0.5 * (3 * mu + h) * dp * dp / rho, boost::test_tools::tolerance(1e-6));
+  }
+  BOOST_TEST(returns > 50);
 }

@@ -218,7 +218,7 @@ BOOST_AUTO_TEST_CASE(mpm_1d_and_2d) {
 }
 
 // Materials that yield carry internal variables (plastic strain, hardening, dissipation): in the
-// checkpoint, restored bit for bit (the CSV outputs hold them).
+// checkpoint, restored bit for bit (the CSV outputs hold them), 1D and 2D, DGMPM and MPM.
 BOOST_AUTO_TEST_CASE(plastic_bar_dgmpm_and_mpm) {
   const json steel = {{"model", "elasto_viscoplastic"},
                       {"young", 2e11},
@@ -238,6 +238,19 @@ BOOST_AUTO_TEST_CASE(plastic_bar_dgmpm_and_mpm) {
     const RunSummary s = run_into(scene::load_scene(write_scene(name, plastic)),
                                   root / (std::string(name) + "_flow"));
     BOOST_TEST(s.energy_dissipated.value_or(0) > 0, name << ": the bar yields");
+  }
+  // Plane strain: the plate's steel yields under its load.
+  json plate_steel = steel;
+  plate_steel["poisson"] = 0.3;
+  for (const auto& [name, doc, steps] :
+       {std::tuple{"plastic_plate_rk2_moving", plate_2d("dgmpm", true, "rk2", "dcu", "auto"), 5},
+        std::tuple{"plastic_plate_musl", plate_2d("mpm-musl", false, "euler", "dcu", 0.5), 8}}) {
+    json plastic = doc;
+    plastic["materials"]["steel"] = plate_steel;
+    check_restarts(name, plastic, every(steps));
+    const RunSummary s = run_into(scene::load_scene(write_scene(name, plastic)),
+                                  root / (std::string(name) + "_flow"));
+    BOOST_TEST(s.energy_dissipated.value_or(0) > 0, name << ": the plate yields");
   }
 }
 

@@ -137,4 +137,50 @@ struct BlockDecomposition {
   }
 };
 
+// The ranks along each axis for `ranks` ranks on a grid of `cells` (periodic where it is):
+// `preferred` (MPI_Dims_create's balanced layout, blind to the grid) when each axis it splits
+// keeps at least kMinBlock cells per rank, else, of the layouts that do, the one cutting the
+// fewest cell faces (a thin strip goes along its length); `preferred` when none does (the
+// decomposition then says why).
+inline constexpr int kMinBlock = 4;
+template <int Dim>
+std::array<int, Dim> rank_layout(int ranks, const std::array<int, Dim>& cells,
+                                 const std::array<bool, Dim>& periodic,
+                                 const std::array<int, Dim>& preferred) {
+  using Index = std::array<int, Dim>;
+  const auto fits = [&](const Index& d) {
+    for (int l = 0; l < Dim; ++l)
+      if (d[l] > 1 && cells[l] < kMinBlock * d[l]) return false;
+    return true;
+  };
+  if (fits(preferred)) return preferred;
+  const auto cut_faces = [&](const Index& d) {
+    double faces = 0;
+    for (int l = 0; l < Dim; ++l) {
+      double across = 1;  // faces of one cut normal to axis l
+      for (int k = 0; k < Dim; ++k)
+        if (k != l) across *= cells[k];
+      faces += (periodic[l] ? d[l] : d[l] - 1) * across;
+    }
+    return faces;
+  };
+  Index best = preferred, d{};
+  double fewest = -1;
+  // Every factorisation of `ranks` into Dim factors, the first axis's factor outermost.
+  const auto search = [&](auto&& self, int axis, int left) -> void {
+    if (axis == Dim - 1) {
+      d[axis] = left;
+      if (fits(d) && (fewest < 0 || cut_faces(d) < fewest)) fewest = cut_faces(d), best = d;
+      return;
+    }
+    for (int f = 1; f <= left; ++f)
+      if (left % f == 0) {
+        d[axis] = f;
+        self(self, axis + 1, left / f);
+      }
+  };
+  search(search, 0, ranks);
+  return best;
+}
+
 }  // namespace dgmpm

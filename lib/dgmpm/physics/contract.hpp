@@ -10,6 +10,7 @@
 #include "../boundary.hpp"
 
 #include <Eigen/Core>
+#include <array>
 #include <concepts>
 #include <cstddef>
 
@@ -84,6 +85,15 @@ template <class P>
 concept Dissipative = requires(const Internal<P>& z, const typename P::Material& m) {
   { P::stored_energy_per_mass(z, m) } -> std::convertible_to<double>;
   { P::dissipated_energy_per_mass(z) } -> std::convertible_to<double>;
+};
+
+// Output columns a physics derives from a particle (sigma_zz, back stress...): their names and
+// values from its physical state, internal variables and material.
+template <class P>
+concept DerivedOutputs = requires(const typename P::State& s, const Internal<P>& z,
+                                  const typename P::Material& m) {
+  P::derived_names.size();
+  { P::derived(s, z, m) } -> std::convertible_to<std::array<double, P::derived_names.size()>>;
 };
 
 template <class P>

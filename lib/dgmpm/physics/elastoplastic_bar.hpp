@@ -60,6 +60,13 @@ struct ElastoPlasticBar : ElasticBar {
     q[0] = sigma_new / m.density;
   }
 
+  // Output columns derived from a particle (physical state, internal variables, material).
+  static constexpr std::array<const char*, 1> derived_names{"back_stress"};
+  template <class Z>
+  static std::array<double, 1> derived(const State&, const Z& z, const Material& m) {
+    return {m.flow.kinematic_hardening * z[plastic_strain]};
+  }
+
   // Energy per unit mass stored by hardening: (H_iso p^2 + C_kin eps_p^2) / (2 rho).
   template <class Z>
   static double stored_energy_per_mass(const Z& z, const Material& m) {

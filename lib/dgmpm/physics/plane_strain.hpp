@@ -121,6 +121,11 @@ struct PlaneStrain {
   static double sigma_zz(const State& physical_state, const Material& m) {
     return m.poisson * (physical_state[sxx] + physical_state[syy]);
   }
+  // The same with a particle's internal variables (none here; plastic flow changes it).
+  template <class Z>
+  static double sigma_zz(const State& physical_state, const Material& m, const Z&) {
+    return sigma_zz(physical_state, m);
+  }
 
   // F^s = F / rho along `axis`.
   static State specific_flux(int axis, const State& q, const Material& m) {
