@@ -526,13 +526,18 @@ class Parser {
       if (const json* h = find(v, key)) {
         const std::string allowed = "a number >= 0 (Pa)";
         *modulus = number(*h, key_path(path, key), allowed);
-        if (!(*modulus >= 0)) not_allowed(key_path(path, key), *h, allowed);
+        if (!(*modulus >= 0))
+          refuse(key_path(path, key), *h,
+                 "is not allowed: softening (a negative hardening modulus) makes the local "
+                 "problem ill-posed (strain localises in one cell, the result depends on the grid)",
+                 allowed);
       }
     if (viscous) {
       flow.relaxation_time = positive(require(v, path, "relaxation_time", "a number > 0 (s)"),
                                       key_path(path, "relaxation_time"));
       if (const json* n = find(v, "rate_exponent")) {
-        const std::string allowed = "a number >= 1";
+        const std::string allowed =
+            "a number >= 1 (the implicit return's Newton iteration relies on a convex rate law)";
         flow.rate_exponent = number(*n, key_path(path, "rate_exponent"), allowed);
         if (!(flow.rate_exponent >= 1)) not_allowed(key_path(path, "rate_exponent"), *n, allowed);
       }

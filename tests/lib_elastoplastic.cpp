@@ -244,7 +244,8 @@ BOOST_AUTO_TEST_CASE(a_plane_strain_return_lands_on_the_surface_with_its_own_ene
     const double a = s[0] - mean - c * z[PP::exx], b = s[1] - mean - c * z[PP::eyy];
     const double d = szz - mean - c * z[PP::ezz], e = s[2] - c * z[PP::exy];
     const double eq = std::sqrt(1.5 * (a * a + b * b + d * d + 2 * e * e));
-    BOOST_TEST(std::abs(eq - m.flow.yield_radius(z[PP::equivalent_plastic_strain])) <= 1e-13 * sigma_y);
+    BOOST_TEST(std::abs(eq - m.flow.yield_radius(z[PP::equivalent_plastic_strain])) <=
+               1e-13 * sigma_y);
     const double drop = total(q0, z0) - total(q, z);
     BOOST_TEST(drop == 0.5 * (3 * mu + h) * dp * dp / rho, boost::test_tools::tolerance(1e-6));
   }

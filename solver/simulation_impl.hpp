@@ -1,0 +1,1023 @@
+#pragma once
+// The definitions of Simulation<Physics>, instantiated by simulation.cpp (elastic physics) and
+// simulation_plastic.cpp (physics with internal variables): two translation units that build in
+// parallel, and elastic runs compiled as before the plastic physics existed.
+
+#include "solver/simulation.hpp"
+
+#include "solver/checkpoint.hpp"
+#include "solver/frozen_spectrum.hpp"
+#include "solver/mpm.hpp"
+#include "solver/output.hpp"
+#include "solver/vtk_output.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stability/layout.hpp>
+#include <unistd.h>
+
+namespace dgmpm {
+
+namespace {
+
+MpmVariant mpm_variant(scene::Method m) {
+  switch (m) {
+    case scene::Method::mpm_usf:
+      return MpmVariant::usf;
+    case scene::Method::mpm_musl:
+      return MpmVariant::musl;
+    default:
+      return MpmVariant::usl;
+  }
+}
+
+// Particles sorted by cell so that the per-cell loops read contiguous memory.
+template <class ParticleSet>
+void sort_by_cell(const Grid<ParticleSet::dim>& grid, ParticleSet& particles) {
+  std::vector<int> cell(particles.size());
+  Eigen::Matrix<double, ParticleSet::dim, 1> xi;
+  for (int p = 0; p < particles.size(); ++p) cell[p] = grid.locate(particles.position.col(p), xi);
+  std::vector<int> order(particles.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cell[a] < cell[b]; });
+  particles = particles.select(order);
+}
+
+std::string format_step(long step, double t) {
+  std::ostringstream s;
+  s << "step " << step << ", t = " << std::setprecision(10) << t;
+  return s.str();
+}
+
+template <int Dim>
+std::string grid_extent(const Grid<Dim>& g) {
+  std::ostringstream s;
+  for (int a = 0; a < Dim; ++a) s << (a ? " x [" : "[") << g.origin[a] << ", " << g.upper(a) << "]";
+  return s.str();
+}
+
+template <int Dim>
+bool has_loads(const Grid<Dim>& grid, const Boundaries<Dim>& boundaries) {
+  for (int a = 0; a < Dim; ++a)
+    for (int side = 0; side < 2 && !grid.periodic[a]; ++side)
+      for (const auto& s : boundaries[a][side].segments)
+        if (s.condition.kind == BoundaryKind::traction ||
+            s.condition.kind == BoundaryKind::velocity)
+          return true;
+  return false;
+}
+
+}  // namespace
+template <class Physics>
+Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
+    : Simulation(scene, ranks, std::chrono::steady_clock::now()) {}
+
+template <class Physics>
+Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
+                                std::chrono::steady_clock::time_point start)
+    : scene_(scene), problem_(make_problem<Physics>(scene)) {
+  sort_by_cell(problem_.grid, problem_.particles);
+  total_particles_ = problem_.particles.size();
+  total_cells_ = problem_.grid.num_cells();
+  max_speed_ = problem_.max_wave_speed();
+  if (scene_.particles_move && problem_.exact) {  // the exact solution at initial positions
+    problem_.particles.tracks_reference = true;
+    problem_.particles.reference = problem_.particles.position;
+  }
+  const double h = problem_.grid.cell_size.minCoeff();
+  if (scene_.method == scene::Method::dgmpm) {
+    stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
+                                                  stepper_options(scene_));
+    stepper_->rebuild(problem_.particles, problem_.materials);
+    time_control_.emplace(scene_, max_speed_);
+    dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
+    if (!time_control_->automatic()) warn_if_above_admissible();
+    if (dim > 1 && time_control_->automatic() && scene_.particles_move) {
+      const int cell = time_control_->first_cell_past_the_lattice(stepper_->discretisation());
+      if (cell >= 0)
+        warnings_.push_back(
+            "\"courant\": \"auto\" with moving particles: cell " + std::to_string(cell) +
+            " holds more particles than the layout lattice bounds (one or two per cell in 2D, "
+            "under the consistent formulation): such layouts are analysed anew as their "
+            "particles drift, 0.05-0.5 s each and several per step, and choosing steps may take "
+            "most of the run (the plate with 2 x 2 moving particles per cell: 1-3 s per "
+            "step); a fixed Courant number below `dgmpm courant`'s limit for the layout, with "
+            "time.check_scene_every as a guard, is far cheaper");
+    }
+    if (scene_.time.check_scene_every > 0) check_scene(0, 0.0);
+    if (scene_.formulation == Formulation::paper) warn_if_overfull_cell(0, 0.0);
+    if (dim > 1 && scene_.flux == FluxScheme::ctu && scene_.time.integrator == TimeScheme::rk2)
+      warnings_.push_back(
+          "flux \"ctu\" with integrator \"rk2\": CTU's transverse corrections are a one-step "
+          "(Euler) device and RK2 already holds the cross terms they add; the pair is stable only "
+          "below Courant 1 even with one particle per cell (about 0.75 for nu = 0.3) and is not "
+          "exact at Courant 1 (use \"dcu\" with \"rk2\" or \"ctu\" with \"euler\")");
+    loaded_ = has_loads<dim>(problem_.grid, problem_.boundaries);
+    if (loaded_) power_ = load_power();
+  } else {
+    if (scene_.time.courant_auto)
+      throw scene::SceneError(scene_.source +
+                              ": time.courant: value \"auto\" is not available for method \"" +
+                              scene::to_string(scene_.method) +
+                              "\"; allowed: a positive number (the stability analysis is DGMPM's)");
+    dt_ = scene_.time.courant * h / problem_.max_wave_speed();
+    mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
+                                          mpm_variant(scene_.method), scene_.update);
+  }
+  if (ranks && ranks->size() > 1) distribute(*ranks);
+  initial_energy_ = energy();
+  setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The whole scene's operator, frozen, at the chosen step: halved until its spectral radius is at
+// most 1 (to the eigensolver's accuracy), the factor kept until the next check. What the
+// per-layout analysis cannot see (a configuration no cell's periodic model holds) is caught here.
+template <class Physics>
+void Simulation<Physics>::check_scene(long step, double t) {
+  constexpr double kTolerance = 1e-6;  // ARPACK's rho: to about 1e-8 (1e-7 on large scenes)
+  constexpr int kHalvings = 40;
+  const double h = problem_.grid.cell_size.minCoeff();
+  double factor = 1.0, first = 0.0, rho = 0.0;
+  for (int k = 0; k <= kHalvings; ++k) {
+    rho =
+        frozen_spectral_radius<Physics>(problem_.grid, problem_.boundaries, problem_.particles,
+                                        problem_.materials, stepper_options(scene_), factor * dt_);
+    if (k == 0) first = rho;
+    if (rho <= 1 + kTolerance) break;
+    factor *= 0.5;
+  }
+  scene_guard_factor_ = factor;
+  if (factor == 1.0) return;
+  dt_ *= factor;
+  if (scene_guard_warned_) return;
+  scene_guard_warned_ = true;
+  std::ostringstream s;
+  s << format_step(step, t) << ": the whole scene's operator has spectral radius " << first
+    << " at the automatic step (C = " << dt_ / factor * max_speed_ / h
+    << "); the step is scaled by " << factor << " (C = " << dt_ * max_speed_ / h
+    << ", spectral radius " << rho
+    << ") until the next check (time.check_scene_every; warned once)";
+  warnings_.push_back(s.str());
+}
+
+// Set up on the whole scene (so the time step and the warnings are the serial run's), then
+// keeps this rank's window: its particles, its grid and boundaries, a stepper on them.
+template <class Physics>
+void Simulation<Physics>::distribute(Communicator& ranks) {
+  const std::string count = std::to_string(ranks.size()) + " MPI ranks";
+  if (scene_.time.check_scene_every > 0)
+    throw scene::SceneError(scene_.source + ": time.check_scene_every: value " +
+                            std::to_string(scene_.time.check_scene_every) +
+                            " is not available on " + count +
+                            " (the whole scene's operator is analysed on one rank); allowed: 0");
+  if (mpm_)
+    throw scene::SceneError(scene_.source + ": method: value \"" + scene::to_string(scene_.method) +
+                            "\" runs on one rank; allowed on " + count + ": \"dgmpm\"");
+  const auto& grid = problem_.grid;
+  const std::vector<int> dims =
+      ranks.cartesian_layout(std::vector<bool>(grid.periodic.begin(), grid.periodic.end()),
+                             std::vector<int>(grid.cells.begin(), grid.cells.end()));
+  typename BlockDecomposition<dim>::Index layout{};
+  std::copy(dims.begin(), dims.end(), layout.begin());
+  // One ghost layer per stage.
+  const int depth = scene_.time.integrator == TimeScheme::rk2 ? 2 : 1;
+  try {
+    halo_ = std::make_unique<Halo<ParticleSet>>(
+        ranks, Subdomain<dim>(grid, BlockDecomposition<dim>(grid, layout), ranks.rank(), depth));
+  } catch (const std::invalid_argument& e) {
+    throw scene::SceneError(scene_.source + ": grid: cannot be split over " + count + ": " +
+                            e.what());
+  }
+  problem_.particles = halo_->distribute(problem_.particles);
+  problem_.boundaries = halo_->subdomain().boundaries(problem_.boundaries);
+  problem_.grid = halo_->subdomain().window();
+  stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
+                                                stepper_options(scene_));
+  stepper_->rebuild(problem_.particles, problem_.materials);
+  if (loaded_) power_ = load_power();
+}
+
+template <class Physics>
+Simulation<Physics>::~Simulation() = default;
+
+template <class Physics>
+void Simulation<Physics>::warn_if_above_admissible() {
+  // A 2D layout takes 0.1-3 s to analyse: a scene of many distinct layouts is not checked, and
+  // says so.
+  constexpr int kMaxLayouts2D = 16;
+  const auto& disc = stepper_->discretisation();
+  if (dim > 1) {
+    const int layouts = time_control_->layouts_to_analyse(disc, problem_.particles);
+    if (layouts > kMaxLayouts2D) {
+      warnings_.push_back(
+          "Courant number " + std::to_string(scene_.time.courant) +
+          " not checked against the admissible one: " + std::to_string(layouts) +
+          " distinct cell layouts (more than " + std::to_string(kMaxLayouts2D) +
+          " take long to analyse in 2D); \"courant\": \"auto\" analyses them "
+          "as the run needs them, `dgmpm courant --scene` analyses the whole scene");
+      return;
+    }
+  }
+  const auto limit = time_control_->smallest_admissible(disc, problem_.particles);
+  if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
+  std::ostringstream s;
+  s << "Courant number " << scene_.time.courant << " is above the admissible "
+    << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
+    << ", " << scene::to_string(scene_.time.integrator);
+  if (dim > 1) s << ", " << to_string(scene_.flux);
+  s << ") of the layout of cell " << limit.cell << " (positions "
+    << stability::describe_positions(limit.layout) << ", masses "
+    << stability::describe(limit.layout.masses);
+  if (limit.fill < 1 - 1e-9) s << ", fill " << limit.fill;
+  s << "): the run may be unstable";
+  warnings_.push_back(s.str());
+}
+
+// With the paper's pseudo-stiffness, a cell whose particles carry more than rho times its volume
+// (moving particles piling up) breaks the scheme's consistency: the volume term scales with the
+// cell's mass, the face fluxes do not, so a constant state changes at a rate (fill - 1) F / (rho h)
+// there, however small dt is. No time step restores monotonicity then; the run says so once,
+// naming where it began (the consistent pseudo-stiffness, the default, removes the cause).
+template <class Physics>
+void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
+  // The rebuild found the first over-full cell (no pass over the cells here); over ranks, the
+  // first of theirs by the grid's numbering (every rank says the same).
+  const auto& disc = stepper_->discretisation();
+  int c = disc.first_overfull_cell();
+  if (halo_ && c >= 0) {
+    // A window's numbering wraps across periodic sides: the rank's first owned over-full cell by
+    // the grid's numbering (a pass over the window, only once it has one).
+    c = -1;
+    for (int k = 0; k < disc.num_cells(); ++k)
+      if (halo_->owns_cell(k) && disc.occupied(k) && disc.overfull(k) &&
+          (c < 0 || full_cell(k) < full_cell(c)))
+        c = k;
+  }
+  double cell = c >= 0 ? full_cell(c) : -1, fill = c >= 0 ? disc.fill(c) : 0;
+  if (halo_) {
+    constexpr double none = std::numeric_limits<double>::infinity();
+    const double mine = c >= 0 ? cell : none, first = halo_->comm().min(mine);
+    fill = halo_->comm().min(mine == first ? fill : none);
+    cell = first == none ? -1 : first;
+  }
+  if (cell < 0) return;
+  std::ostringstream s;
+  s << format_step(step, t) << ": cell " << static_cast<long>(cell) << " holds "
+    << std::setprecision(6) << fill
+    << " times a full cell's mass; the operators do not preserve constant states in an "
+       "over-full cell, so new extrema can appear whatever the time step (\"formulation\": "
+       "\"consistent\" restores them)";
+  warnings_.push_back(s.str());
+  overfull_warned_ = true;
+}
+
+// Power of the boundary loads on the current particle state.
+template <class Physics>
+double Simulation<Physics>::load_power() const {
+  const auto& p = problem_.particles;
+  if (!halo_) return stepper_->op().boundary_power(p.state, p.mass, time_);
+  double power = stepper_->op().boundary_power(p.state, p.mass, time_,
+                                               [&](int c) { return halo_->owns_cell(c); });
+  halo_->comm().sum({&power, 1});
+  return power;
+}
+
+template <class Physics>
+void Simulation<Physics>::step(double dt) {
+  auto& particles = problem_.particles;
+  bool finite = false;  // known finite (DGMPM checks as it writes the particles)
+  try {
+    if (mpm_) {
+      mpm_->step(particles, time_, dt, scene_.particles_move);
+    } else {
+      finite = stepper_->step(particles, problem_.materials, time_, dt);
+      if (scene_.particles_move) {
+        particles.position += dt * particles.state.template bottomRows<dim>();
+        if (halo_) halo_->migrate(particles);
+        stepper_->rebuild(particles, problem_.materials);
+        if (!overfull_warned_ && scene_.formulation == Formulation::paper)
+          warn_if_overfull_cell(steps_ + 1, time_ + dt);
+        if (time_control_->automatic()) {
+          dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), particles);
+          if (halo_) dt_ = halo_->comm().min(dt_);  // every cell is some rank's: exact
+          const long every = scene_.time.check_scene_every;
+          if (every > 0 && (steps_ + 1) % every == 0)
+            check_scene(steps_ + 1, time_ + dt);
+          else
+            dt_ *= scene_guard_factor_;
+        }
+      } else if (halo_) {
+        halo_->exchange_states(particles);
+      }
+    }
+  } catch (const ParticleOutsideGrid& e) {
+    throw std::runtime_error(format_step(steps_ + 1, time_ + dt) + ": " + e.what() + " " +
+                             grid_extent(full_grid()));
+  }
+  time_ += dt;
+  ++steps_;
+  // With finite states, positions moved by dt v are finite or outside the grid (thrown above).
+  if (!finite) check_finite();
+  if (loaded_) {
+    const double power = load_power();
+    work_ += 0.5 * dt * (power_ + power);
+    power_ = power;
+  }
+  // Energy is a pass over the particles: every kGrowthCheckInterval steps is enough to stop an
+  // exponential growth long before it overflows.
+  constexpr int kGrowthCheckInterval = 16;
+  if (scene_.time.blow_up_check && ++since_growth_check_ >= kGrowthCheckInterval) check_growth();
+}
+
+// Unbounded growth: the energy cannot exceed the initial energy plus the work the boundaries did
+// (DGMPM dissipates; MPM's balance is looser, hence a wide factor). Names the particle holding
+// the most energy.
+template <class Physics>
+void Simulation<Physics>::check_growth() {
+  since_growth_check_ = 0;
+  most_work_ = std::max(most_work_, mpm_ ? mpm_->load_work() : work_);
+  const double reference = initial_energy_ + most_work_;
+  const double e = energy();
+  if (!(e > scene_.time.blow_up_factor * reference && e > 0.0)) return;
+  const auto& p = problem_.particles;
+  int worst = 0;
+  double most = -1;
+  const int n = owned_particles();
+  for (int i = 0; i < n; ++i)
+    if (const double ei = particle_energy(i).total(); ei > most) most = ei, worst = i;
+  // Distributed: the rank holding the largest says where; the others stop.
+  if (halo_ && halo_->comm().min(-most) != -most)
+    throw RankStopped("the run is unstable (another rank names the particle)");
+  Eigen::Matrix<double, dim, 1> xi;
+  const int cell = full_grid().locate(p.position.col(worst), xi);
+  std::ostringstream s;
+  s << format_step(steps_, time_) << ": the run is unstable: energy " << std::setprecision(6) << e
+    << ' ' << energy_unit(dim) << " is " << e / reference
+    << " times the initial energy plus the work of the loads (" << reference
+    << " J; time.blow_up_factor " << scene_.time.blow_up_factor << "); largest on particle "
+    << p.id[worst] << " (x = " << p.position.col(worst).transpose() << ", cell " << cell << ", "
+    << most << ' ' << energy_unit(dim) << "). Lower the Courant number (or raise "
+    << "time.blow_up_factor, or set time.blow_up_check false to run on)";
+  throw std::runtime_error(s.str());
+}
+
+template <class Physics>
+void Simulation<Physics>::check_finite() const {
+  const auto& particles = problem_.particles;
+  const int n = owned_particles();
+  if (particles.state.leftCols(n).allFinite()) return;
+  for (int p = 0; p < n; ++p) {
+    if (particles.state.col(p).allFinite() && particles.position.col(p).allFinite()) continue;
+    Eigen::Matrix<double, dim, 1> xi;
+    const int cell = full_grid().locate(particles.position.col(p), xi);
+    std::ostringstream s;
+    s << format_step(steps_, time_) << ": non-finite state on particle " << particles.id[p]
+      << " (x = " << particles.position.col(p).transpose() << ", cell " << cell
+      << "); the run is unstable: lower the Courant number";
+    throw std::runtime_error(s.str());
+  }
+}
+
+template <class Physics>
+double Simulation<Physics>::step_towards(double target) {
+  const double remaining = target - time_;
+  if (remaining <= 1e-12 * dt_) {
+    time_ = std::max(time_, target);
+    return 0.0;
+  }
+  // The last step absorbs round-off rather than leaving a sliver step behind.
+  const bool last = remaining <= dt_ * (1 + 1e-9);
+  const double dt = last ? remaining : dt_;
+  step(dt);
+  if (last) time_ = target;
+  return dt;
+}
+
+template <class Physics>
+void Simulation<Physics>::advance_to(double t_end) {
+  while (step_towards(t_end) > 0.0) {
+  }
+}
+
+template <class Physics>
+typename Simulation<Physics>::Field Simulation<Physics>::physical_state() const {
+  const auto& p = problem_.particles;
+  Field s(ncomp, owned_particles());
+  for (int i = 0; i < s.cols(); ++i)
+    s.col(i) = Physics::physical(p.state.col(i), problem_.materials[p.material[i]]);
+  return s;
+}
+
+template <class Physics>
+typename Simulation<Physics>::Energy Simulation<Physics>::energy_parts() const {
+  Energy e;
+  const int n = owned_particles();
+  for (int i = 0; i < n; ++i) {
+    const Energy ei = particle_energy(i);
+    e.kinetic += ei.kinetic;
+    e.elastic += ei.elastic;
+    e.stored += ei.stored;
+    e.dissipated += ei.dissipated;
+  }
+  if (halo_) {
+    std::array<double, 4> sums{e.kinetic, e.elastic, e.stored, e.dissipated};
+    halo_->comm().sum(sums);
+    e = {sums[0], sums[1], sums[2], sums[3]};
+  }
+  return e;
+}
+
+template <class Physics>
+typename Simulation<Physics>::Energy Simulation<Physics>::particle_energy(int i) const {
+  const auto& p = problem_.particles;
+  const auto& m = problem_.materials[p.material[i]];
+  Energy e{p.mass[i] * Physics::kinetic_energy_per_mass(p.state.col(i)), 0.0};
+  // Where the elastic energy depends on the internal variables (plane strain's sigma_zz under
+  // plastic flow), the physics says so by taking them.
+  if constexpr (requires {
+                  Physics::elastic_energy_per_mass(p.state.col(i), p.internal.col(i), m);
+                })
+    e.elastic = p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i), p.internal.col(i), m);
+  else
+    e.elastic = p.mass[i] * Physics::elastic_energy_per_mass(p.state.col(i), m);
+  if constexpr (dissipative) {
+    e.stored = p.mass[i] * Physics::stored_energy_per_mass(p.internal.col(i), m);
+    e.dissipated = p.mass[i] * Physics::dissipated_energy_per_mass(p.internal.col(i));
+  }
+  return e;
+}
+
+template <class Physics>
+typename Simulation<Physics>::Field Simulation<Physics>::exact_state(double t) const {
+  const auto& p = problem_.particles;
+  Field s(ncomp, owned_particles());
+  const auto& x0 = p.tracks_reference ? p.reference : p.position;
+  for (int i = 0; i < s.cols(); ++i) s.col(i) = problem_.exact(x0.col(i), t);
+  return s;
+}
+
+// One row per particle, in the serial run's order (a distributed run gathers its ranks' owned
+// particles on rank 0, which writes): the same file whatever the number of ranks.
+template <class Physics>
+void Simulation<Physics>::write_particles(const std::string& path) const {
+  const Field s = physical_state();
+  std::optional<Field> ex;
+  if (problem_.exact) ex = exact_state(time_);
+  const auto& p = problem_.particles;
+  // Columns: id, position, mass, volume, physical state, internal variables, the physics' derived
+  // outputs, exact state.
+  constexpr int kMass = 1 + dim, kVolume = 2 + dim, kState = 3 + dim;
+  constexpr int kInternal = kState + ncomp, kDerived = kInternal + ParticleSet::n_internal;
+  constexpr int kExact = kDerived + derived_count;
+  Eigen::MatrixXd table(kExact + (ex ? ncomp : 0), s.cols());
+  for (Eigen::Index i = 0; i < s.cols(); ++i) {
+    table(0, i) = p.id[i];
+    table.col(i).segment<dim>(1) = p.position.col(i);
+    table(kMass, i) = p.mass[i];
+    table(kVolume, i) = p.volume[i];
+    table.col(i).segment<ncomp>(kState) = s.col(i);
+    table.col(i).segment<ParticleSet::n_internal>(kInternal) = p.internal.col(i);
+    if constexpr (derived_count > 0) {
+      const auto d =
+          Physics::derived(s.col(i), p.internal.col(i), problem_.materials[p.material[i]]);
+      for (int k = 0; k < derived_count; ++k) table(kDerived + k, i) = d[k];
+    }
+    if (ex) table.col(i).segment<ncomp>(kExact) = ex->col(i);
+  }
+  if (halo_) table = halo_->gather(table);
+  if (!root()) return;
+  output::write_atomically(path, [&](std::ostream& out) {
+    out << (dim == 1 ? "id,x,mass,stress,velocity"
+                     : "id,x,y,mass,volume,sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y");
+    for (const char* name : Physics::internal_names) out << ',' << name;
+    if constexpr (derived_count > 0)
+      for (const char* name : Physics::derived_names) out << ',' << name;
+    if (ex)
+      out << (dim == 1 ? ",exact_stress,exact_velocity"
+                       : ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,"
+                         "exact_velocity_y");
+    out << ",time\n";
+    for (Eigen::Index i = 0; i < table.cols(); ++i) {
+      out << static_cast<long>(table(0, i));
+      for (int r = 1; r < table.rows(); ++r)
+        if (dim > 1 || r != kVolume) out << ',' << table(r, i);  // 1D rows have no volume
+      out << ',' << time_ << '\n';
+    }
+  });
+}
+
+namespace {
+// particles_NNN.EXT: the k-th output (what a run writes and what its manifest lists).
+std::string particle_file(std::size_t k, const char* ext) {
+  char name[64];
+  std::snprintf(name, sizeof name, "particles_%03zu.%s", k, ext);
+  return name;
+}
+// A distributed run's checkpoint: rank 0 writes `name`, rank R > 0 its piece name_rR.ckpt.
+std::string checkpoint_piece(const std::string& name, int rank) {
+  if (rank == 0) return name;
+  const std::string stem = name.substr(0, name.size() - std::string(".ckpt").size());
+  return stem + "_r" + std::to_string(rank) + ".ckpt";
+}
+// particles_NNN_rR.vtu: rank R's piece of the k-th output of a distributed run.
+std::string piece_file(std::size_t k, int rank) {
+  char name[64];
+  std::snprintf(name, sizeof name, "particles_%03zu_r%d.vtu", k, rank);
+  return name;
+}
+}  // namespace
+
+// The particles' .vtu `name` (serial), or (distributed) this rank's piece of output k, and on
+// rank 0 the .pvtu `name` that opens the pieces as one data set.
+template <class Physics>
+void Simulation<Physics>::write_vtu(std::size_t k, const std::string& directory,
+                                    const std::string& name) const {
+  const auto& p = problem_.particles;
+  const Field s = physical_state();
+  const auto ex = problem_.exact ? std::optional(exact_state(time_)) : std::nullopt;
+  if (!halo_) {
+    vtk::write_particles<Physics>(directory + "/" + name, p, problem_.materials, s, ex);
+    return;
+  }
+  std::vector<int> owned(owned_particles());
+  std::iota(owned.begin(), owned.end(), 0);
+  const ParticleSet piece = p.select(owned);
+  const auto data = vtk::point_data<Physics>(piece, problem_.materials, s, ex);
+  Communicator& comm = halo_->comm();
+  vtk::write_points(directory + "/" + piece_file(k, comm.rank()), piece.position, data);
+  comm.barrier();  // every piece complete before the index names it
+  if (!root()) return;
+  std::vector<std::string> pieces;
+  for (int r = 0; r < comm.size(); ++r) pieces.push_back(piece_file(k, r));
+  vtk::write_piece_index(directory + "/" + name, pieces, data);
+}
+
+template <class Physics>
+RunSummary Simulation<Physics>::run(const RunOptions& options) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  RunSummary summary;
+  Progress& done = progress_;
+  const bool resumed = !restored_from_.empty();
+  if (!resumed) done.dt_min = done.dt_max = dt_;
+
+  const std::string directory = options.output_directory.value_or(scene_.output.directory);
+  const bool writes = !directory.empty();
+  const bool checkpoints = options.checkpoint_steps > 0 || options.checkpoint_seconds > 0;
+  if (checkpoints && !writes)
+    throw scene::SceneError(scene_.source +
+                            ": checkpoints need an output directory (output.directory or --out)");
+  const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
+  const auto& output_times = scene_.output.times;
+  std::optional<output::DirectoryClaim> claim;
+  const bool land = scene_.output.land;
+  std::vector<std::string> planned;
+  // A checkpoint's files: one, or one per rank.
+  const auto checkpoint_files = [&](const std::string& name) {
+    std::vector<std::string> files{name};
+    for (int r = 1; halo_ && r < halo_->comm().size(); ++r)
+      files.push_back(checkpoint_piece(name, r));
+    return files;
+  };
+  // A distributed run's VTU outputs: a .pvtu and one piece per rank.
+  const auto vtu_file = [&](std::size_t k) { return particle_file(k, halo_ ? "pvtu" : "vtu"); };
+  if (writes) output::create_directories(directory);
+  if (writes && root()) {
+    for (std::size_t k = 0; k < output_times.size(); ++k) {
+      if (csv) planned.push_back(particle_file(k, "csv"));
+      if (vtu) planned.push_back(vtu_file(k));
+      for (int r = 0; vtu && halo_ && r < halo_->comm().size(); ++r)
+        planned.push_back(piece_file(k, r));
+    }
+    if (vtu && !output_times.empty()) planned.push_back("particles.pvd");
+    if (!output_times.empty()) planned.push_back("outputs.csv");
+    planned.push_back("energy.csv");
+    planned.push_back("summary.json");
+    std::vector<std::string> listed = planned;
+    for (const auto& c : done.checkpoints)
+      for (const auto& f : checkpoint_files(c)) listed.push_back(f);
+    claim.emplace(directory, scene_.source, listed, options.overwrite, resumed);
+  }
+  if (writes && halo_) halo_->comm().barrier();  // the claim cleared the directory
+  if (resumed) {
+    std::error_code ec;
+    const auto here = std::filesystem::weakly_canonical(directory, ec);
+    if (!writes || here != std::filesystem::weakly_canonical(restored_directory_, ec))
+      warnings_.push_back("restarted from " + restored_from_ + " into another directory: the " +
+                          std::to_string(done.outputs) +
+                          " outputs written before the checkpoint and the energy history up to "
+                          "it are in " +
+                          restored_directory_);
+  }
+
+  // The energy history: streamed under a temporary name, or, with checkpoints, committed at each
+  // one (the file then always matches the last checkpoint).
+  output::StreamedFile streamed;
+  output::CommittedFile committed;
+  const std::string history_path = directory + "/energy.csv";
+  const char* history_header =
+      dissipative ? "step,time,dt,kinetic,elastic,stored,dissipated,total,boundary_work\n"
+                  : "step,time,dt,kinetic,elastic,total,boundary_work\n";
+  // Energies are sums over the ranks: every rank computes them, rank 0 writes.
+  const auto write_history = [&](std::ostream* out, double dt, const Energy& e) {
+    if (!out) return;
+    *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ',';
+    if (dissipative) *out << e.stored << ',' << e.dissipated << ',';
+    *out << e.total() << ',' << work_ << '\n';
+  };
+  std::ostream* history = nullptr;
+  const bool commits = checkpoints || resumed;
+  if (writes && commits) {
+    const bool initial_row = !resumed || steps_ == 0;
+    const Energy e = initial_row ? energy_parts() : Energy{};
+    if (root() &&
+        (!resumed || !committed.resume(history_path, done.history_bytes, done.history_hash))) {
+      if (resumed)
+        warnings_.push_back(history_path + " does not hold the energy history the checkpoint " +
+                            "recorded: it restarts at step " + std::to_string(steps_));
+      committed.create(history_path);
+      committed.stream() << history_header;
+      if (initial_row) write_history(&committed.stream(), 0.0, e);
+    }
+    if (root()) history = &committed.stream();
+  } else if (writes) {
+    if (root()) {
+      streamed = output::StreamedFile(history_path);
+      streamed.stream() << history_header;
+      history = &streamed.stream();
+    }
+    write_history(history, 0.0, energy_parts());
+  }
+
+  // The step count up front: a run that would need more than time.max_steps is refused.
+  const double expected_steps = std::ceil((scene_.time.end - time_) / dt_) + steps_;
+  if (expected_steps > static_cast<double>(scene_.time.max_steps)) {
+    std::ostringstream s;
+    s << scene_.source << ": time.end: value " << scene_.time.end << " needs about "
+      << expected_steps << " steps of " << dt_ << " s, more than time.max_steps ("
+      << scene_.time.max_steps << "); allowed: an end time within time.max_steps, or a larger "
+      << "time.max_steps";
+    throw scene::SceneError(s.str());
+  }
+  const bool progress = options.progress && root() && ::isatty(STDERR_FILENO);
+  if (progress)
+    std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(),
+                 expected_steps - steps_, dt_);
+  auto last_report = start;
+  const double t_end = scene_.time.end;
+  const auto write_output = [&] {
+    const std::size_t k = done.outputs;
+    std::ostringstream row;
+    row.precision(17);
+    row << k << ',' << time_ << ',';
+    if (csv) {
+      const std::string name = particle_file(k, "csv");
+      write_particles(directory + "/" + name);
+      done.files.push_back(name);
+      row << name;
+    }
+    row << ',';
+    if (vtu) {
+      const std::string name = vtu_file(k);
+      write_vtu(k, directory, name);
+      done.files.push_back(name);
+      done.series.emplace_back(time_, name);
+      row << name;
+    }
+    done.index_rows.push_back(row.str());
+    ++done.outputs;
+  };
+  // Output k is due once the run reaches its time (landing) or its nearest step (not landing).
+  const auto output_due = [&] {
+    return writes && done.outputs < output_times.size() &&
+           time_ >= output_times[done.outputs] - (land ? 0.0 : 0.5 * dt_);
+  };
+  double next_checkpoint_time = std::numeric_limits<double>::infinity();
+  if (options.checkpoint_seconds > 0)
+    next_checkpoint_time =
+        (std::floor(time_ / options.checkpoint_seconds) + 1) * options.checkpoint_seconds;
+  const int rank = halo_ ? halo_->comm().rank() : 0;
+  const auto take_checkpoint = [&] {
+    if (root()) {
+      committed.commit();
+      done.history_bytes = committed.bytes();
+      done.history_hash = committed.hash();
+    }
+    done.checkpoint_step = steps_;
+    char name[64];
+    std::snprintf(name, sizeof name, "checkpoint_%09ld.ckpt", steps_);
+    std::vector<std::string> kept = done.checkpoints;
+    kept.push_back(name);
+    std::vector<std::string> dropped;
+    if (options.checkpoint_keep > 0)
+      while (kept.size() > static_cast<std::size_t>(options.checkpoint_keep)) {
+        dropped.push_back(kept.front());
+        kept.erase(kept.begin());
+      }
+    done.checkpoints = kept;  // recorded in the checkpoint itself
+    write_checkpoint(directory + "/" + checkpoint_piece(name, rank));
+    if (halo_) halo_->comm().barrier();  // every piece written before the manifest lists it
+    if (root()) {
+      std::vector<std::string> listed = planned;
+      for (const auto& c : kept)
+        for (const auto& f : checkpoint_files(c)) listed.push_back(f);
+      claim->record(listed);
+    }
+    for (const auto& f : dropped)
+      std::filesystem::remove(directory + "/" + checkpoint_piece(f, rank));
+  };
+
+  for (;;) {
+    while (output_due()) write_output();
+    if (checkpoints && steps_ > std::max(done.checkpoint_step, 0L) &&
+        ((options.checkpoint_steps > 0 && steps_ % options.checkpoint_steps == 0) ||
+         time_ >= next_checkpoint_time)) {
+      take_checkpoint();
+      if (time_ >= next_checkpoint_time)
+        next_checkpoint_time =
+            (std::floor(time_ / options.checkpoint_seconds) + 1) * options.checkpoint_seconds;
+    }
+    double target = t_end;
+    if (land && writes && done.outputs < output_times.size())
+      target = std::min(target, output_times[done.outputs]);
+    const double controlled = dt_;
+    const double dt = step_towards(target);
+    if (dt == 0.0) {
+      if (target >= t_end) break;
+      continue;  // landed on an output time within round-off: written above
+    }
+    if (steps_ >= scene_.time.max_steps && time_ < t_end)
+      throw std::runtime_error(format_step(steps_, time_) + ": time.max_steps (" +
+                               std::to_string(scene_.time.max_steps) +
+                               ") reached before the end time; the automatic step shrank "
+                               "(raise time.max_steps to go on)");
+    // The range of the controlled step; steps shortened to land on a time are not counted.
+    done.dt_min = std::min(done.dt_min, controlled);
+    done.dt_max = std::max(done.dt_max, controlled);
+    if (writes) write_history(history, dt, energy_parts());
+    if (progress) {
+      const auto now = clock::now();
+      const double elapsed = std::chrono::duration<double>(now - start).count();
+      if (elapsed > 2.0 && now - last_report > std::chrono::milliseconds(500)) {
+        last_report = now;
+        const double left = elapsed * (t_end - time_) / time_;
+        std::fprintf(stderr, "\rstep %ld  t = %.6g / %.6g  (%.1f%%)  about %.0f s left   ", steps_,
+                     time_, t_end, 100.0 * time_ / t_end, left);
+      }
+    }
+  }
+  if (progress) std::fprintf(stderr, "\r%78s\r", "");
+  if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
+  for (const auto& name : done.files) summary.files.push_back(directory + "/" + name);
+  if (writes && root() && !done.index_rows.empty()) {
+    output::write_atomically(directory + "/outputs.csv", [&](std::ostream& out) {
+      out << "index,time,csv,vtu\n";
+      for (const auto& r : done.index_rows) out << r << '\n';
+    });
+    summary.files.push_back(directory + "/outputs.csv");
+  }
+  if (vtu && writes && root() && !done.series.empty()) {
+    vtk::write_series(directory + "/particles.pvd", done.series);
+    summary.files.push_back(directory + "/particles.pvd");
+  }
+
+  summary.run = {{"version", DGMPM_VERSION},
+                 {"scene", scene_.source},
+                 {"method", scene::to_string(scene_.method)},
+                 {"integrator", scene::to_string(scene_.time.integrator)},
+                 {"dimension", dim},
+                 {"particles", total_particles_},
+                 {"cells", total_cells_}};
+  if (halo_) {
+    // The load balance of the block decomposition (void regions leave ranks idle).
+    const std::vector<double> counts = halo_->comm().gather({double(owned_particles())});
+    if (root()) {
+      const double largest = *std::max_element(counts.begin(), counts.end());
+      summary.run["ranks"] = counts.size();
+      summary.run["particles_per_rank"] = std::vector<long>(counts.begin(), counts.end());
+      summary.run["imbalance"] = largest * counts.size() / total_particles_;
+    }
+  }
+  if (dim > 1 && scene_.method == scene::Method::dgmpm)
+    summary.run["flux"] = to_string(scene_.flux);
+  if (resumed) summary.run["restarted_from"] = restored_from_;
+  summary.energy_initial = initial_energy_;
+  summary.dt_min = done.dt_min;
+  summary.dt_max = done.dt_max;
+  const double to_courant = max_speed_ / problem_.grid.cell_size.minCoeff();
+  summary.courant_min = summary.dt_min * to_courant;
+  summary.courant_max = summary.dt_max * to_courant;
+  summary.steps = steps_;
+  summary.final_time = time_;
+  summary.warnings = warnings_;
+  // MPM's load power is not tracked: null in the summary rather than a zero that means nothing.
+  summary.boundary_work = mpm_ ? std::numeric_limits<double>::quiet_NaN() : work_;
+  if (time_control_) summary.layouts_analysed = time_control_->layouts_analysed();
+  const Energy final_energy = energy_parts();
+  summary.energy_final = final_energy.total();
+  if (dissipative) {
+    summary.energy_stored = final_energy.stored;
+    summary.energy_dissipated = final_energy.dissipated;
+  }
+  if (problem_.exact) {
+    const int n = owned_particles();
+    Eigen::MatrixXd all(2 * ncomp + 1, n);  // computed, exact, volume: the serial run's sums
+    all << physical_state(), exact_state(time_), problem_.particles.volume.head(n).transpose();
+    if (halo_) all = halo_->gather(all);
+    if (root()) {
+      const Eigen::MatrixXd s = all.topRows(ncomp), ex = all.middleRows(ncomp, ncomp);
+      const Eigen::VectorXd vol = all.bottomRows(1).transpose();
+      // Where one exact field vanishes, the other one, through the impedance, sets the scale.
+      const double z = problem_.exact_impedance;
+      const Eigen::MatrixXd es = ex.topRows(ncomp - dim), ev = ex.bottomRows(dim);
+      summary.stress_errors = relative_errors(s.topRows(ncomp - dim), es, vol, z * ev);
+      summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
+    }
+  }
+  summary.stepping_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  summary.setup_seconds = setup_seconds_;
+  summary.wall_seconds = summary.setup_seconds + summary.stepping_seconds;
+  if (time_control_) {
+    summary.time_step_seconds = time_control_->selection_seconds();
+    summary.layout_analysis_seconds = time_control_->analysis_seconds();
+  }
+  if (writes && root()) {
+    if (commits)
+      committed.commit();
+    else
+      streamed.close();
+    summary.files.push_back(directory + "/energy.csv");
+    const std::string path = directory + "/summary.json";
+    summary.files.push_back(path);
+    const nlohmann::json j = summary.to_json();
+    output::write_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  }
+  return summary;
+}
+
+namespace {
+template <class M>
+void put(checkpoint::PayloadWriter& w, const M& m) {
+  w.bytes(m.data(), sizeof(*m.data()) * static_cast<std::size_t>(m.size()));
+}
+template <class M>
+void get(checkpoint::PayloadReader& r, M& m) {
+  r.bytes(m.data(), sizeof(*m.data()) * static_cast<std::size_t>(m.size()));
+}
+}  // namespace
+
+template <class Physics>
+void Simulation<Physics>::write_checkpoint(const std::string& path) const {
+  using checkpoint::bits;
+  // Distributed: this rank's owned particles and their places in the serial arrays.
+  const int n = owned_particles();
+  std::vector<int> first(n);
+  std::iota(first.begin(), first.end(), 0);
+  const ParticleSet owned = halo_ ? problem_.particles.select(first) : ParticleSet{};
+  const ParticleSet& p = halo_ ? owned : problem_.particles;
+  std::vector<long> global(halo_ ? n : 0);
+  for (std::size_t i = 0; i < global.size(); ++i) global[i] = halo_->global_index(int(i));
+  const Progress& d = progress_;
+  nlohmann::json series = nlohmann::json::array();
+  for (const auto& [t, name] : d.series) series.push_back({bits(t), name});
+  checkpoint::File file;
+  file.header = {
+      {"format", checkpoint::kFormat},
+      {"version", DGMPM_VERSION},
+      {"scene_source", std::filesystem::absolute(scene_.source).lexically_normal().string()},
+      {"scene", checkpoint::scene_identity(scene_)},
+      {"dimension", dim},
+      {"components", ncomp},
+      {"particles", p.size()},
+      {"step", steps_},
+      {"time", bits(time_)},
+      {"dt", bits(dt_)},
+      {"work", bits(work_)},
+      {"power", bits(power_)},
+      {"most_work", bits(most_work_)},
+      {"initial_energy", bits(initial_energy_)},
+      {"mpm_load_work", bits(mpm_ ? mpm_->load_work() : 0.0)},
+      {"since_growth_check", since_growth_check_},
+      {"overfull_warned", overfull_warned_},
+      {"scene_guard_factor", bits(scene_guard_factor_)},
+      {"scene_guard_warned", scene_guard_warned_},
+      {"warnings", warnings_},
+      {"progress",
+       {{"outputs", d.outputs},
+        {"series", series},
+        {"index_rows", d.index_rows},
+        {"files", d.files},
+        {"checkpoints", d.checkpoints},
+        {"dt_min", bits(d.dt_min)},
+        {"dt_max", bits(d.dt_max)},
+        {"history_bytes", d.history_bytes},
+        {"history_hash", d.history_hash},
+        {"checkpoint_step", d.checkpoint_step}}}};
+  if (halo_) {
+    file.header["ranks"] = halo_->comm().size();
+    file.header["rank"] = halo_->comm().rank();
+  }
+  // Only where there are some: elastic checkpoints keep the header they always had.
+  if (ParticleSet::n_internal > 0) file.header["internal_variables"] = ParticleSet::n_internal;
+  checkpoint::PayloadWriter w(file.payload);
+  p.for_each_field([&](const FieldInfo&, const auto& a) { put(w, a); });
+  if (halo_) put(w, global);
+  checkpoint::write(path, file);
+}
+
+template <class Physics>
+void Simulation<Physics>::restore(const std::string& path) {
+  using checkpoint::from_bits;
+  // Distributed: each rank reads its piece (rank 0 the named file) of a run on as many ranks.
+  const int rank = halo_ ? halo_->comm().rank() : 0, ranks = halo_ ? halo_->comm().size() : 1;
+  const std::string piece = checkpoint_piece(path, rank);
+  const checkpoint::File file = checkpoint::read(piece);
+  const nlohmann::json& h = file.header;
+  checkpoint::check_compatible(piece, h, scene_);
+  auto& p = problem_.particles;
+  try {
+    if (h.value("ranks", 1) != ranks || h.value("rank", 0) != rank)
+      throw scene::SceneError(piece + ": cannot restart from this checkpoint: it is rank " +
+                              std::to_string(h.value("rank", 0)) + "'s of a run on " +
+                              std::to_string(h.value("ranks", 1)) +
+                              " rank(s); allowed: a restart " + "on as many ranks (mpirun -np " +
+                              std::to_string(h.value("ranks", 1)) + ")");
+    const int n = halo_ ? h.at("particles").get<int>() : p.size();
+    if (h.at("dimension") != dim || h.at("components") != ncomp || h.at("particles") != n ||
+        h.value("internal_variables", 0) != ParticleSet::n_internal || n < 0 ||
+        n > total_particles_)
+      throw scene::SceneError(
+          piece + ": cannot restart from this checkpoint: it holds " + h.at("particles").dump() +
+          " particles in " + h.at("dimension").dump() + "D with " +
+          std::to_string(h.value("internal_variables", 0)) + " internal variables, the scene " +
+          std::to_string(total_particles_) + " in " + std::to_string(dim) + "D with " +
+          std::to_string(ParticleSet::n_internal));
+    ParticleSet restored;
+    restored.tracks_reference = p.tracks_reference;
+    restored.resize(n);
+    std::vector<long> global(halo_ ? n : 0);
+    checkpoint::PayloadReader r(piece, file.payload);
+    restored.for_each_field([&](const FieldInfo&, auto& a) { get(r, a); });
+    if (halo_) get(r, global);
+    r.expect_end();
+    for (std::size_t i = 0; i < global.size(); ++i)
+      if (global[i] < 0 || global[i] >= total_particles_ || (i > 0 && global[i] <= global[i - 1]))
+        throw scene::SceneError(piece +
+                                ": cannot restart from this checkpoint: corrupt particle order");
+    for (int m : restored.material)
+      if (m < 0 || m >= static_cast<int>(problem_.materials.size()))
+        throw scene::SceneError(path + ": cannot restart from this checkpoint: corrupt material");
+    const auto u = [&](const nlohmann::json& j, const char* key) {
+      return from_bits(j.at(key).get<std::uint64_t>());
+    };
+    Progress d;
+    const nlohmann::json& g = h.at("progress");
+    d.outputs = g.at("outputs").get<std::size_t>();
+    for (const auto& e : g.at("series"))
+      d.series.emplace_back(from_bits(e.at(0).get<std::uint64_t>()), e.at(1).get<std::string>());
+    d.index_rows = g.at("index_rows").get<std::vector<std::string>>();
+    d.files = g.at("files").get<std::vector<std::string>>();
+    d.checkpoints = g.at("checkpoints").get<std::vector<std::string>>();
+    d.dt_min = u(g, "dt_min");
+    d.dt_max = u(g, "dt_max");
+    d.history_bytes = g.at("history_bytes").get<std::uint64_t>();
+    d.history_hash = g.at("history_hash").get<std::uint64_t>();
+    d.checkpoint_step = g.at("checkpoint_step").get<long>();
+    // All read: the state changes only now.
+    steps_ = h.at("step").get<long>();
+    time_ = u(h, "time");
+    dt_ = u(h, "dt");
+    work_ = u(h, "work");
+    power_ = u(h, "power");
+    most_work_ = u(h, "most_work");
+    initial_energy_ = u(h, "initial_energy");
+    since_growth_check_ = h.at("since_growth_check").get<int>();
+    overfull_warned_ = h.at("overfull_warned").get<bool>();
+    scene_guard_factor_ = u(h, "scene_guard_factor");
+    scene_guard_warned_ = h.at("scene_guard_warned").get<bool>();
+    warnings_ = h.at("warnings").get<std::vector<std::string>>();
+    p = std::move(restored);
+    if (halo_) halo_->restore(p, global);  // the ghosts, from their owners
+    progress_ = std::move(d);
+    if (mpm_) mpm_->set_load_work(u(h, "mpm_load_work"));
+    if (stepper_) stepper_->rebuild(p, problem_.materials);
+  } catch (const nlohmann::json::exception& e) {
+    throw scene::SceneError(path +
+                            ": cannot restart from this checkpoint: its header is "
+                            "incomplete (" +
+                            std::string(e.what()) + ")");
+  }
+  restored_from_ = path;
+  restored_directory_ = std::filesystem::path(path).parent_path().string();
+  if (restored_directory_.empty()) restored_directory_ = ".";
+}
+
+}  // namespace dgmpm
