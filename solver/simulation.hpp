@@ -149,6 +149,7 @@ class Simulation final : public SimulationBase {
     double kinetic = 0, elastic = 0, stored = 0, dissipated = 0;
     double total() const { return kinetic + elastic + stored + dissipated; }
   };
+  static_assert(physics::HasEnergy<Physics>, "the solver reports the particles' energy");
   static constexpr bool dissipative = physics::Dissipative<Physics>;
   // Output columns the physics derives from a particle (none for elastic physics).
   static constexpr int derived_count = [] {

@@ -64,12 +64,19 @@ concept MpmConstitutive = ConservationLaw<P> &&
   P::add_stress_rate(q, grad_v, m, dt);
 };
 
-// The energy the solver reports: kinetic and elastic, per unit mass.
+// The energy the solver reports, per unit mass: kinetic, and elastic from the state or, where the
+// internal variables change it (plane strain's sigma_zz under plastic flow), from both.
 template <class P>
-concept HasEnergy = requires(const typename P::State& q, const typename P::Material& m) {
+concept HasEnergy = requires(const typename P::State& q) {
   { P::kinetic_energy_per_mass(q) } -> std::convertible_to<double>;
-  { P::elastic_energy_per_mass(q, m) } -> std::convertible_to<double>;
-};
+}
+&&(
+    requires(const typename P::State& q, const typename P::Material& m) {
+      { P::elastic_energy_per_mass(q, m) } -> std::convertible_to<double>;
+    } ||
+    requires(const typename P::State& q, const Internal<P>& z, const typename P::Material& m) {
+      { P::elastic_energy_per_mass(q, z, m) } -> std::convertible_to<double>;
+    });
 
 // A correction of a particle's state q and internal variables z over a step dt, once q is
 // interpolated (a return mapping). Physics with internal variables must have one.
