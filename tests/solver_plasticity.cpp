@@ -236,12 +236,12 @@ StripResult run_strip(const json& doc) {
     const double zz = Physics::sigma_zz(s.col(i), m, p.internal.col(i));
     largest = std::max(largest, std::abs(s(0, i)));
     mismatch = std::max(mismatch, std::abs(s(1, i) - zz));
-    if (std::abs(p.position(0, i) - 3.0) > 1.5) continue;
+    if (std::abs(p.position(0, i) - 3.0) >= 1.5) continue;
     r.sigma_xx += -s(0, i);
     r.eps_p_xx += -p.internal(0, i);
     ++count;
   }
-  BOOST_TEST_REQUIRE(count > 100);
+  BOOST_TEST_REQUIRE(count > 20);
   r.sigma_xx /= count;
   r.eps_p_xx /= count;
   r.zz_mismatch = mismatch / largest;
@@ -615,4 +615,34 @@ BOOST_AUTO_TEST_CASE(the_strip_along_y_is_the_strip_along_x_transposed) {
     }
   BOOST_TEST(matched == pa.size());
   BOOST_TEST(difference <= 1e-12 * largest);
+}
+
+// The strip at other resolutions and with two particles per cell along x (Courant 0.5, within
+// their limit): the plateau means of |sigma_xx| and |eps_p_xx| (|x - 3| < 1.5 m) against the exact
+// 1.2610 GPa and 2.0308e-3. Measured: 50 cells 2.7e-4 and 2.4e-3 (the cells at the impact plane
+// carry a start-up error of about 1% in eps_p, a larger share of the plateau at 50 cells), 800
+// cells 1.9e-5 and 4.9e-4, 2 particles per cell at 200 cells 1.5e-4 and 5.6e-3.
+BOOST_AUTO_TEST_CASE(the_strip_converges_and_runs_with_two_particles_per_cell) {
+  const auto strip = [](int cells, int ppc) {
+    json doc = shipped_strip();
+    const double h = 6.0 / cells;
+    doc["grid"]["cell_size"] = {h, h};
+    doc["grid"]["cells"] = {cells, 2};
+    for (auto& body : doc["bodies"]) {
+      body["box"]["max"][1] = 2 * h;
+      body["particles_per_cell"] = {ppc, 1};
+    }
+    if (ppc > 1) doc["time"]["courant"] = 0.5;
+    doc.erase("output");
+    return run_strip<PlaneStrainPlastic>(doc);
+  };
+  const double sigma = 1.2610e9, eps = 2.0308e-3;
+  const StripResult coarse = strip(50, 1), fine = strip(800, 1), two = strip(200, 2);
+  BOOST_TEST(coarse.sigma_xx == sigma, boost::test_tools::tolerance(2e-3));
+  BOOST_TEST(coarse.eps_p_xx == eps, boost::test_tools::tolerance(3e-3));
+  BOOST_TEST(fine.sigma_xx == sigma, boost::test_tools::tolerance(1e-4));
+  BOOST_TEST(fine.eps_p_xx == eps, boost::test_tools::tolerance(6e-4));
+  BOOST_TEST(two.sigma_xx == sigma, boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(two.eps_p_xx == eps, boost::test_tools::tolerance(1e-2));
+  for (const auto& r : {coarse, fine, two}) BOOST_TEST(r.balanced);
 }
