@@ -51,12 +51,8 @@ struct ElastoPlasticBar : ElasticBar {
     const double sigma_new = sigma - m.young * dp * direction;
     z[plastic_strain] += dp * direction;
     z[equivalent_plastic_strain] += dp;
-    // Dissipation (sigma_y + f_v) dp with the end-of-step values: |sigma - X| dp - H_iso p dp.
-    const double overstress_radius =
-        std::abs(sigma_new - flow.kinematic_hardening * z[plastic_strain]);
-    z[dissipation] +=
-        (overstress_radius - flow.isotropic_hardening * z[equivalent_plastic_strain]) * dp /
-        m.density;
+    const double radius_after = std::abs(sigma_new - flow.kinematic_hardening * z[plastic_strain]);
+    z[dissipation] += flow.dissipation(radius_after, z[equivalent_plastic_strain], dp) / m.density;
     q[0] = sigma_new / m.density;
   }
 
@@ -70,10 +66,8 @@ struct ElastoPlasticBar : ElasticBar {
   // Energy per unit mass stored by hardening: (H_iso p^2 + C_kin eps_p^2) / (2 rho).
   template <class Z>
   static double stored_energy_per_mass(const Z& z, const Material& m) {
-    const PlasticFlow& flow = m.flow;
-    if (flow.elastic()) return 0.0;
-    const double p = z[equivalent_plastic_strain], e = z[plastic_strain];
-    return 0.5 * (flow.isotropic_hardening * p * p + flow.kinematic_hardening * e * e) / m.density;
+    const double e = z[plastic_strain];
+    return m.flow.stored_energy(z[equivalent_plastic_strain], 1.5 * e * e) / m.density;
   }
   template <class Z>
   static double dissipated_energy_per_mass(const Z& z) {

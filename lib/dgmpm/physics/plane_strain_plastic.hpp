@@ -89,9 +89,8 @@ struct PlaneStrainPlastic : PlaneStrain {
     z[ezz] += k * zz;
     z[exy] += k * xy;
     z[equivalent_plastic_strain] = p + dp;
-    // Dissipation (sigma_y + f_v) dp with the end-of-step values: sigma_eq(s - X) dp - H_iso p dp.
     const double eq_after = eq - (3 * mu + flow.kinematic_hardening) * dp;
-    z[dissipation] += (eq_after - flow.isotropic_hardening * (p + dp)) * dp / rho;
+    z[dissipation] += flow.dissipation(eq_after, p + dp, dp) / rho;
     q[sxx] = (sx - 2 * mu * k * xx) / rho;
     q[syy] = (sy - 2 * mu * k * yy) / rho;
     q[sxy] = (sxy_ - 2 * mu * k * xy) / rho;
@@ -110,11 +109,8 @@ struct PlaneStrainPlastic : PlaneStrain {
   // Energy per unit mass stored by hardening: (H_iso p^2 / 2 + C_kin eps_p : eps_p / 3) / rho.
   template <class Z>
   static double stored_energy_per_mass(const Z& z, const Material& m) {
-    const PlasticFlow& flow = m.flow;
-    if (flow.elastic()) return 0.0;
-    const double p = z[equivalent_plastic_strain];
     const double ee = z[exx] * z[exx] + z[eyy] * z[eyy] + z[ezz] * z[ezz] + 2 * z[exy] * z[exy];
-    return (0.5 * flow.isotropic_hardening * p * p + flow.kinematic_hardening * ee / 3) / m.density;
+    return m.flow.stored_energy(z[equivalent_plastic_strain], ee) / m.density;
   }
   template <class Z>
   static double dissipated_energy_per_mass(const Z& z) {

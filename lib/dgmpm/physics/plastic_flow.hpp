@@ -24,6 +24,20 @@ struct PlasticFlow {
   // The radius of the elastic domain after an equivalent plastic strain p.
   double yield_radius(double p) const { return yield_stress + isotropic_hardening * p; }
 
+  // Energy per unit volume stored by hardening after an equivalent plastic strain p, with
+  // eps_p_squared = eps_p : eps_p (tensor): H_iso p^2 / 2 + C_kin eps_p : eps_p / 3, the back
+  // stress being (2/3) C_kin eps_p (the bar's X = C_kin eps_p is the same with eps_p = eps_p_xx (1,
+  // -1/2, -1/2), eps_p : eps_p = 3/2 eps_p_xx^2).
+  double stored_energy(double p, double eps_p_squared) const {
+    if (elastic()) return 0.0;
+    return 0.5 * isotropic_hardening * p * p + kinematic_hardening * eps_p_squared / 3;
+  }
+  // Energy per unit volume a return of dp dissipates: (sigma_y + the viscous overstress) dp from
+  // the end-of-step values, the radius sigma_eq(s - X) after the return less H_iso p.
+  double dissipation(double radius_after, double p_after, double dp) const {
+    return (radius_after - isotropic_hardening * p_after) * dp;
+  }
+
   // dp >= 0 of a return from the trial overstress f_trial (> 0) with stiffness k over dt.
   // Rate-independent: f_trial / k (the overstress after the return is 0). Perzyna,
   // dp / dt = <f / sigma_y>^n / tau with f = f_trial - k dp at the end of the step: in the

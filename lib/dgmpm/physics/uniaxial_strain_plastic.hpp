@@ -65,9 +65,8 @@ struct UniaxialStrainPlastic : ElasticBar {
     const double direction = xi >= 0 ? 1.0 : -1.0;
     z[plastic_strain] = e + dp * direction;
     z[equivalent_plastic_strain] = p + dp;
-    // Dissipation (sigma_y + f_v) dp with the end-of-step values.
-    const double xi_after = std::abs(xi) - (3 * mu + flow.kinematic_hardening) * dp;
-    z[dissipation] += (xi_after - flow.isotropic_hardening * (p + dp)) * dp / m.density;
+    const double radius_after = std::abs(xi) - (3 * mu + flow.kinematic_hardening) * dp;
+    z[dissipation] += flow.dissipation(radius_after, p + dp, dp) / m.density;
     q[0] = (sigma - 2 * mu * dp * direction) / m.density;
   }
 
@@ -95,11 +94,8 @@ struct UniaxialStrainPlastic : ElasticBar {
   // (H_iso p^2 / 2 + C_kin eps_p : eps_p / 3) / rho, eps_p : eps_p = 3/2 eps_p_xx^2.
   template <class Z>
   static double stored_energy_per_mass(const Z& z, const Material& m) {
-    const PlasticFlow& flow = m.flow;
-    if (flow.elastic()) return 0.0;
-    const double p = z[equivalent_plastic_strain], e = z[plastic_strain];
-    return (0.5 * flow.isotropic_hardening * p * p + 0.5 * flow.kinematic_hardening * e * e) /
-           m.density;
+    const double e = z[plastic_strain];
+    return m.flow.stored_energy(z[equivalent_plastic_strain], 1.5 * e * e) / m.density;
   }
   template <class Z>
   static double dissipated_energy_per_mass(const Z& z) {
