@@ -14,6 +14,9 @@
 #include <malloc.h>
 #include <nlohmann/json.hpp>
 #include <omp.h>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
 
 namespace dgmpm::bench {
 
@@ -159,8 +162,10 @@ namespace {
 
 // The founding paper's plate (4 m x 3 m, -2e8 Pa on the lower metre of the left edge, other
 // edges free) with about `particles` particles: square-ish cells, ppc per axis 1 or 2.
+// `yield_stress` > 0 makes the steel elastoplastic (scenes/plate_plastic.json's material).
 scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
-                         const std::string& integrator, const std::string& method = "dgmpm") {
+                         const std::string& integrator, const std::string& method = "dgmpm",
+                         double yield_stress = 0.0) {
   const double per_cell = ppc_axis * ppc_axis;
   const int nx =
       std::max(1, static_cast<int>(std::lround(std::sqrt(particles / per_cell * 4 / 3))));
@@ -178,6 +183,12 @@ scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
        {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 0.0}}, {"range", {0.0, 1.0}}}}}}},
       {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}}}};
   if (method == "dgmpm") doc["flux"] = flux;
+  if (yield_stress > 0) {
+    auto& steel = doc["materials"]["steel"];
+    steel["model"] = "elastoplastic";
+    steel["yield_stress"] = yield_stress;
+    steel["isotropic_hardening"] = 2e9;
+  }
   return scene::parse_scene(doc, "bench plate");
 }
 
@@ -345,6 +356,21 @@ struct GoalCase {
   Traffic traffic;
 };
 
+// Share of the particles that have yielded (plastic_strain > 0; 0 for elastic physics): how many of
+// the timed particle-steps can have run a return, the rest only the yield check.
+template <class Physics>
+double yielded_share(const Simulation<Physics>& sim) {
+  const auto& names = Physics::internal_names;
+  const auto row = std::find_if(names.begin(), names.end(), [](const char* name) {
+    return std::string_view(name) == "plastic_strain";
+  });
+  if (row == names.end()) return 0.0;
+  const auto& p = sim.particles();
+  int yielded = 0;
+  for (int i = 0; i < p.size(); ++i) yielded += p.internal(row - names.begin(), i) > 0 ? 1 : 0;
+  return static_cast<double>(yielded) / p.size();
+}
+
 nlohmann::json measure_case(const GoalCase& c, int repeats, double seconds, double triad) {
   return with_physics(c.scene, [&](auto physics) {
     using Physics = typename decltype(physics)::type;
@@ -365,7 +391,8 @@ nlohmann::json measure_case(const GoalCase& c, int repeats, double seconds, doub
         {"resident_bytes_per_particle", resident},
         {"bytes_per_particle_step", bytes},
         {"bound_particle_steps_per_second", bound},
-        {"fraction_of_bound", rates.median() / bound}};
+        {"fraction_of_bound", rates.median() / bound},
+        {"yielded_share", yielded_share(sim)}};
   });
 }
 
@@ -387,6 +414,7 @@ void run_goals_benchmark(std::ostream& out, int particles, double seconds, int r
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);  // the goals are for one core unless said
   const double triad = triad_bytes_per_second(5);
+  const double plastic_yield = 1e8;  // scenes/plate_plastic.json: half the load
   const std::vector<GoalCase> cases{
       {"1D DGMPM Euler", bar_scene(particles, "dgmpm", "euler", false), {1, 2, false, false}},
       {"1D DGMPM RK2", bar_scene(particles, "dgmpm", "rk2", false), {1, 2, false, false}},
@@ -402,13 +430,47 @@ void run_goals_benchmark(std::ostream& out, int particles, double seconds, int r
        {2, 5, false, false}},
       {"2D MPM USL, 1 ppc",
        plate_scene(particles, 1, "dcu", "euler", "mpm-usl"),
-       {2, 5, false, true}}};
+       {2, 5, false, true}},
+      {"2D DGMPM CTU Euler, 1 ppc",
+       plate_scene(particles, 1, "ctu", "euler"),
+       {2, 5, false, false}},
+      {"2D DGMPM CTU Euler, 4 ppc",
+       plate_scene(particles, 2, "ctu", "euler"),
+       {2, 5, false, false}},
+      {"2D plastic DCU Euler, 1 ppc",
+       plate_scene(particles, 1, "dcu", "euler", "dgmpm", plastic_yield),
+       {2, 5, false, false}},
+      {"2D plastic DCU Euler, 4 ppc",
+       plate_scene(particles, 2, "dcu", "euler", "dgmpm", plastic_yield),
+       {2, 5, false, false}},
+      {"2D plastic CTU Euler, 1 ppc",
+       plate_scene(particles, 1, "ctu", "euler", "dgmpm", plastic_yield),
+       {2, 5, false, false}},
+      {"2D plastic CTU Euler, 4 ppc",
+       plate_scene(particles, 2, "ctu", "euler", "dgmpm", plastic_yield),
+       {2, 5, false, false}}};
+  // What a plastic step costs: each plastic plate against the same elastic plate, measured in
+  // this run (medians' ratio; the traffic counted is the elastic step's).
+  const std::vector<std::pair<std::string, std::string>> plastic_pairs{
+      {"2D plastic DCU Euler, 1 ppc", "2D DGMPM DCU Euler, 1 ppc"},
+      {"2D plastic DCU Euler, 4 ppc", "2D DGMPM 4 ppc (DCU Euler)"},
+      {"2D plastic CTU Euler, 1 ppc", "2D DGMPM CTU Euler, 1 ppc"},
+      {"2D plastic CTU Euler, 4 ppc", "2D DGMPM CTU Euler, 4 ppc"}};
   nlohmann::json report;
   report["triad_bytes_per_second"] = triad;
   report["repeats"] = repeats;
   report["seconds_per_repeat"] = seconds;
   for (const GoalCase& c : cases)
     report["cases"].push_back(measure_case(c, repeats, seconds, triad));
+  const auto median_of = [&](const std::string& name) {
+    for (const auto& c : report["cases"])
+      if (c["case"] == name) return c["particle_steps_per_second"]["median"].get<double>();
+    throw std::logic_error("bench: no case " + name);
+  };
+  for (const auto& [plastic, elastic] : plastic_pairs)
+    report["plastic_step_cost"].push_back({{"case", plastic},
+                                           {"elastic", elastic},
+                                           {"cost", median_of(elastic) / median_of(plastic)}});
   // Two threads against one, every case: rates and identical states.
   if (threads >= 2)
     for (std::size_t k = 0; k < cases.size(); ++k) {
