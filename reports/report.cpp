@@ -1,5 +1,8 @@
 #include "reports/report.hpp"
 
+#include "reports/plasticity.hpp"
+#include "reports/report_io.hpp"
+
 #include "solver/installation.hpp"
 
 #include "solver/output.hpp"
@@ -10,8 +13,6 @@
 
 #include <gsl/gsl_fit.h>
 #include <omp.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <chrono>
@@ -27,40 +28,11 @@
 #include <sstream>
 #include <thread>
 
-extern char** environ;
-
 namespace dgmpm::report {
 
 namespace {
 
-using clock_type = std::chrono::steady_clock;
 namespace st = stability;
-
-double seconds_since(clock_type::time_point start) {
-  return std::chrono::duration<double>(clock_type::now() - start).count();
-}
-
-// Full-precision numbers in CSV; "nan" for unavailable values (pandas-free reading in plot.py).
-std::string num(double x) {
-  if (std::isnan(x)) return "nan";
-  std::ostringstream s;
-  s << std::setprecision(10) << x;
-  return s.str();
-}
-
-std::string fixed(double x, int digits) {
-  if (std::isnan(x)) return "n/a";
-  std::ostringstream s;
-  s << std::setprecision(digits) << std::fixed << x;
-  return s.str();
-}
-
-std::string sci(double x, int digits = 2) {
-  if (std::isnan(x)) return "n/a";
-  std::ostringstream s;
-  s << std::setprecision(digits) << std::scientific << x;
-  return s.str();
-}
 
 struct Environment {
   std::string commit, build_type, cpu, date, load;
@@ -263,13 +235,6 @@ OrderFit fit_order(const std::string& problem, const std::string& label,
 
 // ---- CSV -----------------------------------------------------------------------------------
 
-void write_file(const std::string& dir, const std::string& name, std::vector<std::string>& files,
-                const std::function<void(std::ostream&)>& fill) {
-  const std::string path = dir + "/" + name;
-  output::write_atomically(path, fill);
-  files.push_back(path);
-}
-
 const char* run_header =
     "problem,label,family,variant,update,integrator,ppc,courant_mode,courant,cells,h,steps,"
     "dt_min,dt_max,wall_seconds,l2_error,max_error,energy_drift,stable,failure\n";
@@ -409,27 +374,6 @@ std::vector<StiffCase> stiff_cases(bool quick) {
 
 // ---- plotting ------------------------------------------------------------------------------
 
-// Runs reports/<script> with `arguments` through Debian's python3; returns its exit status.
-int run_python(const std::string& script_name, const std::vector<std::string>& arguments,
-               std::ostream& log) {
-  const std::string python = DGMPM_PYTHON;
-  const std::string script = data_file("reports/" + script_name);
-  std::vector<std::string> args = {python, script};
-  args.insert(args.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid;
-  if (python.empty() ||
-      ::posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
-    log << "cannot start the plotting script with '" << python << "'\n";
-    return 127;
-  }
-  int status = 0;
-  if (::waitpid(pid, &status, 0) < 0) return 127;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
-
 // The founding paper's 2D plate (scenes/plate_impact.json) by one method, fields at 5e-4 and
 // 1e-3 s written under dir/plate_<tag>.
 struct PlateRun {
@@ -558,16 +502,19 @@ const char* criterion_name(int c) {
 }  // namespace
 
 std::vector<std::string> report_csv_files() {
-  return {"runs.csv",
-          "orders.csv",
-          "best_per_budget.csv",
-          "stability_map.csv",
-          "courant_vs_particles.csv",
-          "stiff_cases.csv",
-          "plane_waves.csv",
-          "plane_wave_orders.csv",
-          "stability_map_2d.csv",
-          "courant_vs_particles_2d.csv"};
+  std::vector<std::string> files = {"runs.csv",
+                                    "orders.csv",
+                                    "best_per_budget.csv",
+                                    "stability_map.csv",
+                                    "courant_vs_particles.csv",
+                                    "stiff_cases.csv",
+                                    "plane_waves.csv",
+                                    "plane_wave_orders.csv",
+                                    "stability_map_2d.csv",
+                                    "courant_vs_particles_2d.csv"};
+  const std::vector<std::string> plastic = plasticity_csv_files();
+  files.insert(files.end(), plastic.begin(), plastic.end());
+  return files;
 }
 
 std::vector<std::string> report_png_files() {
@@ -583,6 +530,8 @@ std::vector<std::string> report_png_files() {
                                     "convergence_plane_wave_p_30deg.png",
                                     "stability_maps_2d.png",
                                     "courant_vs_particles_2d.png"};
+  const std::vector<std::string> plastic = plasticity_png_files();
+  files.insert(files.end(), plastic.begin(), plastic.end());
   return files;
 }
 
@@ -680,6 +629,12 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
   const Stability2D stab_2d = stability_2d(options.quick);
   const double stability_2d_seconds = seconds_since(phase);
   log << "  2D stability: " << fixed(stability_2d_seconds, 1) << " s" << std::endl;
+
+  // 8. Solids that yield (runs, and their plots when asked).
+  int plasticity_plots = 0;
+  const PlasticitySection plasticity =
+      plasticity_section(dir, options.quick, options.plots, plasticity_plots, log);
+  result.files.insert(result.files.end(), plasticity.files.begin(), plasticity.files.end());
 
   // Best method per time budget: the smallest error among the stable runs within the budget.
   struct Best {
@@ -803,6 +758,7 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
       const int status = run_python("plot_fields_2d.py", args, log);
       if (result.plot_status == 0) result.plot_status = status;
     }
+  if (result.plot_status == 0) result.plot_status = plasticity_plots;
   const double plot_seconds = seconds_since(phase);
   if (options.plots)
     for (const std::string& png : report_png_files()) result.files.push_back(dir + "/" + png);
@@ -826,8 +782,8 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
        << fixed(accuracy_seconds, 1) << " s, stability " << fixed(stability_seconds, 1)
        << " s, stiff cases " << fixed(stiff_seconds, 1) << " s, 2D plate "
        << fixed(plate_seconds, 1) << " s, 2D plane waves " << fixed(plane_wave_seconds, 1)
-       << " s, 2D stability " << fixed(stability_2d_seconds, 1) << " s, plots "
-       << fixed(plot_seconds, 1) << " s) |\n\n";
+       << " s, 2D stability " << fixed(stability_2d_seconds, 1) << " s, solids that yield "
+       << fixed(plasticity.seconds, 1) << " s, plots " << fixed(plot_seconds, 1) << " s) |\n\n";
     if (result.plot_status != 0)
       md << "**The plotting script failed (status " << result.plot_status
          << "): the figures below are missing or stale.**\n\n";
@@ -1020,7 +976,8 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
     md << "\n\nRaw data: `runs.csv`, `orders.csv`, `best_per_budget.csv`, `stability_map.csv`, "
           "`courant_vs_particles.csv`, `stiff_cases.csv`, `plane_waves.csv`, "
           "`plane_wave_orders.csv`, `stability_map_2d.csv`, `courant_vs_particles_2d.csv`; the "
-          "plate's particles in `plate_*/`.\n";
+          "plate's particles in `plate_*/`.\n\n";
+    md << plasticity.markdown;
   });
   log << "wrote " << dir << "/report.md in " << fixed(seconds_since(start), 1) << " s" << std::endl;
   return result;

@@ -19,7 +19,9 @@ assert names == ["1D DGMPM Euler", "1D DGMPM RK2", "1D moving, auto dt, 2 ppc",
                  "2D DGMPM 4 ppc (DCU Euler)", "2D MPM USL, 1 ppc",
                  "2D DGMPM CTU Euler, 1 ppc", "2D DGMPM CTU Euler, 4 ppc",
                  "2D plastic DCU Euler, 1 ppc", "2D plastic DCU Euler, 4 ppc",
-                 "2D plastic CTU Euler, 1 ppc", "2D plastic CTU Euler, 4 ppc"], names
+                 "2D plastic CTU Euler, 1 ppc", "2D plastic CTU Euler, 4 ppc",
+                 "2D every particle returns, DCU Euler, 1 ppc",
+                 "2D every particle returns, CTU Euler, 1 ppc"], names
 for c in report["cases"]:
     rates = c["particle_steps_per_second"]
     assert len(rates["runs"]) == 2 and min(rates["runs"]) == rates["min"], c
@@ -30,11 +32,15 @@ for c in report["cases"]:
     assert abs(c["fraction_of_bound"] - rates["median"] / c["bound_particle_steps_per_second"]) <= 1e-12, c
     assert 0 < c["resident_bytes_per_particle"] < 1e5, c
     assert 0 <= c["yielded_share"] <= 1, c
-    # Only the plastic plates yield, and some of their particles do within the timed steps.
-    assert (c["yielded_share"] > 0) == c["case"].startswith("2D plastic"), c
+    # Only the plastic plates yield, some of their particles within the timed steps, and every
+    # particle of the plates made to return at every step.
+    plastic = c["case"].startswith("2D plastic") or c["case"].startswith("2D every")
+    assert (c["yielded_share"] > 0) == plastic, c
+    assert c["yielded_share"] == 1 or not c["case"].startswith("2D every"), c
 median = {c["case"]: c["particle_steps_per_second"]["median"] for c in report["cases"]}
 costs = report["plastic_step_cost"]
-assert [p["case"] for p in costs] == [n for n in names if n.startswith("2D plastic")], costs
+assert [p["case"] for p in costs] == [n for n in names
+                                      if n.startswith("2D plastic") or n.startswith("2D every")], costs
 for p in costs:
     assert p["elastic"] in median and "plastic" not in p["elastic"], p
     assert abs(p["cost"] - median[p["elastic"]] / median[p["case"]]) <= 1e-12 * p["cost"], p
