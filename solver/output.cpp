@@ -22,27 +22,39 @@ std::string temporary_name(const std::string& path) {
   return path + ".part-" + std::to_string(::getpid());
 }
 
-// Temporary files being written, removed by SIGINT / SIGTERM before the process ends (the
-// handler may only call async-signal-safe functions: fixed buffers, unlink, raise).
+// Temporary files being written, removed by SIGINT / SIGTERM / SIGHUP before the process ends
+// (the handler may only call async-signal-safe functions: fixed buffers, unlink, raise). With a
+// stop handler (set_stop_handler), the first signal goes to it instead and the process lives on
+// to write its record; a second one ends it as without.
 constexpr int kSlots = 8;
 constexpr std::size_t kPathBytes = 4096;
 char pending[kSlots][kPathBytes];
 volatile std::sig_atomic_t in_use[kSlots];
+void (*volatile stop_handler)(int) = nullptr;
+volatile std::sig_atomic_t stop_asked = 0;
 
 extern "C" void remove_pending_and_die(int signal) {
+  if (stop_handler && !stop_asked) {
+    stop_asked = 1;
+    stop_handler(signal);
+    return;
+  }
   for (int k = 0; k < kSlots; ++k)
     if (in_use[k]) ::unlink(pending[k]);
   std::signal(signal, SIG_DFL);
   std::raise(signal);
 }
 
-int register_pending(const std::string& path) {
+void install_signal_handlers() {
   static const bool installed = [] {
-    std::signal(SIGINT, remove_pending_and_die);
-    std::signal(SIGTERM, remove_pending_and_die);
+    for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, remove_pending_and_die);
     return true;
   }();
   (void)installed;
+}
+
+int register_pending(const std::string& path) {
+  install_signal_handlers();
   if (path.size() >= kPathBytes) return -1;
   for (int k = 0; k < kSlots; ++k)
     if (!in_use[k]) {
@@ -74,6 +86,11 @@ std::string reason() {
   return errno ? std::string(": ") + std::strerror(errno) : std::string();
 }
 }  // namespace
+
+void set_stop_handler(void (*handler)(int)) {
+  stop_handler = handler;
+  install_signal_handlers();
+}
 
 void create_directories(const std::string& directory) {
   std::error_code ec;

@@ -67,6 +67,11 @@ class CommittedFile {
 
 void create_directories(const std::string& directory);
 
+// SIGINT, SIGTERM and SIGHUP call `handler` (async-signal-safe: it should only set a flag) the
+// first time, and the process goes on; the second time the temporary files being written are
+// removed and the signal ends the process. Without a handler, the first one does that.
+void set_stop_handler(void (*handler)(int));
+
 // A run owns its output directory while it runs (an exclusive lock on DIR/.dgmpm.lock, released
 // when the process ends, however it ends) and records in DIR/manifest.json the scene and the
 // files it writes. Claiming a directory: refused while another run holds it; refused when it

@@ -3,10 +3,12 @@
 #include "solver/checkpoint.hpp"
 #include "solver/communicator.hpp"
 #include "solver/installation.hpp"
+#include "solver/output.hpp"
 #include "solver/simulation.hpp"
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -17,6 +19,12 @@
 namespace dgmpm {
 
 namespace {
+
+// SIGTERM, SIGINT and SIGHUP ask a run to stop after its current step and write its record.
+volatile std::sig_atomic_t stop_requested = 0;
+extern "C" void request_stop(int signal) {
+  stop_requested = signal;
+}
 
 struct RunArguments {
   std::string scene;  // default: the two-bar impact shipped with dgmpm (share/dgmpm/scenes)
@@ -125,6 +133,9 @@ int run(const RunArguments& args) {
     run_ranks->abort(code);  // does not return
     return code;
   };
+  std::unique_ptr<SimulationBase> owned;
+  // From here on a signal stops the run at its next step (during set-up: at its first).
+  output::set_stop_handler(request_stop);
   try {
     // Several ranks share the node's cores: one thread each unless asked (threads of ranks
     // sharing a core spin at the sweeps' barriers and slow the run many times over).
@@ -144,27 +155,34 @@ int run(const RunArguments& args) {
       if (args.out.empty()) options.output_directory = "out/two_bar_impact";
     }
     const scene::Scene scene = scene::load_scene(scene_path);
-    const auto owned = make_simulation(scene, distributed ? run_ranks : nullptr);
+    owned = make_simulation(scene, distributed ? run_ranks : nullptr);
     SimulationBase& sim = *owned;
     if (!args.restart.empty()) sim.restore(args.restart);
     if (!args.out.empty()) options.output_directory = args.out;
     options.progress = true;
     options.overwrite = args.overwrite;
+    options.stop = &stop_requested;
     if (root)
       for (const auto& w : sim.warnings()) std::cerr << "warning: " << w << std::endl;
     const RunSummary summary = sim.run(options);
-    if (!root) return 0;
+    // Interrupted: the shell's convention for a process a signal ended, after the record.
+    const int code = summary.status == "interrupted" ? 128 + static_cast<int>(stop_requested) : 0;
+    if (!root) return code;
     if (args.json) {
       std::cout << summary.to_json().dump(2) << std::endl;  // as summary.json
     } else {
       print_human(scene, sim, summary);
+      if (code) std::cerr << "interrupted: " << summary.reason << std::endl;
     }
-    return 0;
+    return code;
   } catch (const scene::SceneError& e) {
     return fail(e.what(), 2, Speaker::root);
   } catch (const RankStopped& e) {
     return fail(e.what(), 1, Speaker::another);
   } catch (const std::exception& e) {
+    // --json: the failed run's summary (status, reason, what it reached) on stdout as well.
+    if (args.json && root && owned && owned->last_summary())
+      std::cout << owned->last_summary()->to_json().dump(2) << std::endl;
     return fail(e.what(), 1, Speaker::self);
   }
 }

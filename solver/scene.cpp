@@ -409,6 +409,15 @@ class Parser {
   // One of `values`, spelled as to_string spells it (the names printed are the names parsed).
   template <class E>
   E named(const json& v, const std::string& path, std::initializer_list<E> values) const {
+    return named_among(v, path, values);
+  }
+  template <class E, std::size_t N>
+  E named(const json& v, const std::string& path, const std::array<E, N>& values) const {
+    return named_among(v, path, values);
+  }
+  template <class Values>
+  auto named_among(const json& v, const std::string& path, const Values& values) const {
+    using E = std::decay_t<decltype(*std::begin(values))>;
     std::vector<std::pair<const char*, E>> names;
     for (E e : values) names.emplace_back(to_string(e), e);
     return choice_among(v, path, names);
@@ -552,7 +561,7 @@ class Parser {
     TimeSpec time;
     time.end = positive(require(t, "time", "end", "a number > 0"), "time.end");
     if (const json* i = find(t, "integrator"))
-      time.integrator = named(*i, "time.integrator", {Integrator::euler, Integrator::rk2});
+      time.integrator = named(*i, "time.integrator", time_schemes);
     if (const json* c = find(t, "courant")) {
       const std::string allowed = "a number > 0 or \"auto\"";
       if (c->is_string()) {

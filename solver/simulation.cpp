@@ -13,6 +13,8 @@ StepperOptions stepper_options(const scene::Scene& scene) {
 
 nlohmann::json RunSummary::to_json() const {
   nlohmann::json j = run.is_object() ? run : nlohmann::json::object();
+  j["status"] = status;
+  if (!reason.empty()) j["reason"] = reason;
   j["steps"] = steps;
   j["final_time"] = final_time;
   j["dt_min"] = dt_min;

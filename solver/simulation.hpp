@@ -14,6 +14,7 @@
 #include <dgmpm/stepper.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
@@ -33,6 +34,9 @@ struct ErrorNorms {
 
 struct RunSummary {
   nlohmann::json run;  // what ran: scene, method, integrator, dimension, (flux), particles, cells
+  // How the run ended: "completed", "failed" (an error stopped it: `reason`) or "interrupted" (a
+  // signal: `reason`).
+  std::string status = "completed", reason;
   long steps = 0;
   double final_time = 0, dt_min = 0, dt_max = 0;
   // wall = set-up (the problem, the operators, the first time step) + stepping (the time loop);
@@ -62,6 +66,9 @@ struct RunOptions {
   long checkpoint_steps = 0;
   double checkpoint_seconds = 0;
   int checkpoint_keep = 0;
+  // Set by a signal handler to the signal's number: the run stops after the current step (every
+  // rank at the same step), writes its record and returns with status "interrupted".
+  const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 // Errors ||u_h - u|| / ||u|| over particles, u_p a column (the Euclidean norm of its components
@@ -78,6 +85,9 @@ class SimulationBase {
   virtual const scene::Scene& scene() const = 0;
   virtual const std::vector<std::string>& warnings() const = 0;
   virtual RunSummary run(const RunOptions& options = {}) = 0;
+  // The summary of the last run(), also when it failed (status "failed", with the reason; in a
+  // distributed run only the numbers this rank knows without the others).
+  virtual const std::optional<RunSummary>& last_summary() const = 0;
   virtual int num_particles() const = 0;
   virtual int num_cells() const = 0;
   virtual long steps() const = 0;  // taken so far
@@ -133,6 +143,7 @@ class Simulation final : public SimulationBase {
   void advance_to(double t_end);
   // The whole scene: steps, outputs, summary.
   RunSummary run(const RunOptions& options = {}) override;
+  const std::optional<RunSummary>& last_summary() const override { return last_summary_; }
   void restore(const std::string& checkpoint) override;
 
   // Physical state (sigma, v) of every (owned) particle: 1D (sigma, v); 2D (sigma_xx, sigma_yy,
@@ -212,7 +223,11 @@ class Simulation final : public SimulationBase {
   double next_checkpoint_time(const RunRecord& record) const;
   RunSummary summarise() const;
   void add_errors(RunSummary& summary) const;
+  void write_index(const RunRecord& record) const;
   void close_record(RunRecord& record, RunSummary& summary);
+  void record_failure(RunRecord& record, double stepping_seconds, const std::string& reason);
+  int stop_signal(const RunOptions& options) const;
+  int time_loop(RunRecord& record, bool progress);
 
   // What run() has done so far: a checkpoint records it, a restart continues from it.
   struct Progress {
@@ -226,6 +241,7 @@ class Simulation final : public SimulationBase {
     long checkpoint_step = -1;                           // step of the last checkpoint
   };
   Progress progress_;
+  std::optional<RunSummary> last_summary_;
   std::string restored_from_;  // the checkpoint a restart began at
   std::string restored_directory_;
 

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -56,6 +57,19 @@ std::string format_step(long step, double t) {
   std::ostringstream s;
   s << "step " << step << ", t = " << std::setprecision(10) << t;
   return s.str();
+}
+
+const char* signal_name(int signal) {
+  switch (signal) {
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGINT:
+      return "SIGINT";
+    case SIGHUP:
+      return "SIGHUP";
+    default:
+      return "a signal";
+  }
 }
 
 template <int Dim>
@@ -189,7 +203,7 @@ void Simulation<Physics>::distribute(Communicator& ranks) {
   typename BlockDecomposition<dim>::Index layout{};
   std::copy(dims.begin(), dims.end(), layout.begin());
   // One ghost layer per stage.
-  const int depth = scene_.time.integrator == TimeScheme::rk2 ? 2 : 1;
+  const int depth = traits(scene_.time.integrator).stages;
   try {
     halo_ = std::make_unique<Halo<ParticleSet>>(
         ranks, Subdomain<dim>(grid, BlockDecomposition<dim>(grid, layout), ranks.rank(), depth));
@@ -714,6 +728,7 @@ void Simulation<Physics>::write_output(RunRecord& record) {
   }
   done.index_rows.push_back(row.str());
   ++done.outputs;
+  write_index(record);
 }
 
 // Output k is due once the run reaches its time (landing) or its nearest step (not landing).
@@ -780,6 +795,7 @@ template <class Physics>
 RunSummary Simulation<Physics>::run(const RunOptions& options) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
+  last_summary_.reset();
   const bool resumed = !restored_from_.empty();
   if (!resumed) progress_.dt_min = progress_.dt_max = dt_;
   RunRecord record{options, options.output_directory.value_or(scene_.output.directory)};
@@ -796,6 +812,37 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   if (progress)
     std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(),
                  expected - steps_, dt_);
+  const auto seconds = [&] { return std::chrono::duration<double>(clock::now() - start).count(); };
+  int stopped = 0;  // the signal that interrupted the run
+  try {
+    stopped = time_loop(record, progress);
+    if (!stopped && scene_.time.blow_up_check) check_growth();  // runs shorter than its interval
+  } catch (const std::exception& e) {
+    if (progress) std::fprintf(stderr, "\r%78s\r", "");
+    record_failure(record, seconds(), e.what());
+    throw;
+  }
+  if (progress) std::fprintf(stderr, "\r%78s\r", "");
+  RunSummary summary = summarise();
+  if (stopped) {
+    std::ostringstream reason;
+    reason << format_step(steps_, time_) << ": stopped by signal " << stopped << " ("
+           << signal_name(stopped) << ") before the end time " << scene_.time.end << " s";
+    summary.status = "interrupted";
+    summary.reason = reason.str();
+  }
+  summary.stepping_seconds = seconds();
+  summary.wall_seconds = summary.setup_seconds + summary.stepping_seconds;
+  close_record(record, summary);
+  last_summary_ = summary;
+  return summary;
+}
+
+// The steps to the end time with the outputs and checkpoints due on the way; returns 0 there, or
+// the signal that asked the run to stop (after a whole step, every rank at the same one).
+template <class Physics>
+int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
+  const auto start = std::chrono::steady_clock::now();
   auto last_report = start;
   const double t_end = scene_.time.end;
   const auto& output_times = scene_.output.times;
@@ -809,7 +856,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     const double controlled = dt_;
     const double dt = step_towards(target);
     if (dt == 0.0) {
-      if (target >= t_end) break;
+      if (target >= t_end) return 0;
       continue;  // landed on an output time within round-off: written above
     }
     if (steps_ >= scene_.time.max_steps && time_ < t_end)
@@ -821,8 +868,9 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     progress_.dt_min = std::min(progress_.dt_min, controlled);
     progress_.dt_max = std::max(progress_.dt_max, controlled);
     if (record.writes) write_history(record.history, dt, energy_parts());
+    if (const int signal = stop_signal(record.options)) return signal;
     if (progress) {
-      const auto now = clock::now();
+      const auto now = std::chrono::steady_clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
       if (elapsed > 2.0 && now - last_report > std::chrono::milliseconds(500)) {
         last_report = now;
@@ -832,13 +880,51 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
       }
     }
   }
-  if (progress) std::fprintf(stderr, "\r%78s\r", "");
-  if (scene_.time.blow_up_check) check_growth();  // runs shorter than the check's interval
-  RunSummary summary = summarise();
-  summary.stepping_seconds = std::chrono::duration<double>(clock::now() - start).count();
-  summary.wall_seconds = summary.setup_seconds + summary.stepping_seconds;
-  close_record(record, summary);
-  return summary;
+}
+
+// The signal a handler recorded in options.stop, agreed over the ranks (0: none). A distributed
+// run asks every 16 steps (a reduction; every rank counts the same steps).
+template <class Physics>
+int Simulation<Physics>::stop_signal(const RunOptions& options) const {
+  if (!options.stop || (halo_ && steps_ % 16 != 0)) return 0;
+  double signal = *options.stop;
+  if (halo_) signal = -halo_->comm().min(-signal);
+  return static_cast<int>(signal);
+}
+
+// A run that an error stops still leaves its record: the summary with status "failed" and the
+// reason, the energy history so far, the outputs' index and series. In a distributed run the
+// other ranks may be anywhere, so nothing collective is called: rank 0 writes what it knows (the
+// summary's energies and errors are left out); an error met by another rank alone is reported
+// on stderr only.
+template <class Physics>
+void Simulation<Physics>::record_failure(RunRecord& record, double stepping_seconds,
+                                         const std::string& reason) {
+  RunSummary s;
+  if (!halo_) {
+    s = summarise();
+  } else {
+    s.run = {{"version", DGMPM_VERSION},
+             {"scene", scene_.source},
+             {"dimension", dim},
+             {"ranks", halo_->comm().size()}};
+    s.steps = steps_;
+    s.final_time = time_;
+    s.warnings = warnings_;
+    s.setup_seconds = setup_seconds_;
+  }
+  s.status = "failed";
+  s.reason = reason;
+  s.stepping_seconds = stepping_seconds;
+  s.wall_seconds = s.setup_seconds + stepping_seconds;
+  last_summary_ = s;
+  if (!record.writes || !root()) return;
+  try {
+    close_record(record, *last_summary_);
+  } catch (const std::exception&) {
+    // The run's own error is what the caller reports; a record that cannot be written (a full
+    // disk) must not replace it.
+  }
 }
 
 // The run's numbers (collective in a distributed run; rank 0's are complete).
@@ -909,6 +995,21 @@ void Simulation<Physics>::add_errors(RunSummary& summary) const {
   summary.velocity_errors = relative_errors(s.bottomRows(dim), ev, vol, es / z);
 }
 
+// The outputs' index (outputs.csv) and ParaView series (.pvd) as they stand: rewritten at every
+// output, so that a run stopped early leaves them matching its particle files.
+template <class Physics>
+void Simulation<Physics>::write_index(const RunRecord& record) const {
+  const Progress& done = progress_;
+  if (!record.writes || !root()) return;
+  if (!done.index_rows.empty())
+    output::write_atomically(record.directory + "/outputs.csv", [&](std::ostream& out) {
+      out << "index,time,csv,vtu\n";
+      for (const auto& r : done.index_rows) out << r << '\n';
+    });
+  if (scene_.output.vtu && !done.series.empty())
+    vtk::write_series(record.directory + "/particles.pvd", done.series);
+}
+
 // The run's last files: the output index, the ParaView series, the energy history and the
 // summary, listed in the summary with the particle files.
 template <class Physics>
@@ -917,17 +1018,10 @@ void Simulation<Physics>::close_record(RunRecord& record, RunSummary& summary) {
   const Progress& done = progress_;
   for (const auto& name : done.files) summary.files.push_back(directory + "/" + name);
   if (!record.writes || !root()) return;
-  if (!done.index_rows.empty()) {
-    output::write_atomically(directory + "/outputs.csv", [&](std::ostream& out) {
-      out << "index,time,csv,vtu\n";
-      for (const auto& r : done.index_rows) out << r << '\n';
-    });
-    summary.files.push_back(directory + "/outputs.csv");
-  }
-  if (scene_.output.vtu && !done.series.empty()) {
-    vtk::write_series(directory + "/particles.pvd", done.series);
+  write_index(record);
+  if (!done.index_rows.empty()) summary.files.push_back(directory + "/outputs.csv");
+  if (scene_.output.vtu && !done.series.empty())
     summary.files.push_back(directory + "/particles.pvd");
-  }
   if (record.commits)
     record.committed.commit();
   else

@@ -405,8 +405,10 @@ void add_courant_command(CLI::App& app, std::ostream& out, std::ostream& err,
   keep(sub->add_option("--dim", options->dim, "Dimension: 1 or 2")
            ->check(CLI::IsMember({1, 2}))
            ->capture_default_str());
+  std::vector<std::string> scheme_names;
+  for (TimeScheme s : time_schemes) scheme_names.push_back(to_string(s));
   keep(sub->add_option("--time", options->time, "Time integrator: euler or rk2")
-           ->check(CLI::IsMember({"euler", "rk2"}))
+           ->check(CLI::IsMember(scheme_names))
            ->capture_default_str());
   keep(sub->add_option("--flux", options->flux, "2D edge fluxes: dcu or ctu")
            ->check(CLI::IsMember({"dcu", "ctu"}))

@@ -1,6 +1,6 @@
 #include "stability/options.hpp"
 
-#include <initializer_list>
+#include <array>
 #include <stdexcept>
 #include <string>
 
@@ -24,8 +24,8 @@ const char* to_string(Model m) {
 namespace {
 
 // The value of `all` whose to_string is `s`: one spelling per value, the printed one.
-template <class E>
-E parse_named(const std::string& s, std::initializer_list<E> all, const char* what) {
+template <class E, class Values>
+E parse_named(const std::string& s, const Values& all, const char* what) {
   std::string listed;
   for (E e : all) {
     if (s == to_string(e)) return e;
@@ -37,17 +37,17 @@ E parse_named(const std::string& s, std::initializer_list<E> all, const char* wh
 }  // namespace
 
 TimeScheme parse_time_scheme(const std::string& s) {
-  return parse_named(s, {TimeScheme::euler, TimeScheme::rk2}, "time scheme");
+  return parse_named<TimeScheme>(s, time_schemes, "time scheme");
 }
 Criterion parse_criterion(const std::string& s) {
-  return parse_named(s, {Criterion::l2, Criterion::monotone}, "criterion");
+  return parse_named<Criterion>(s, std::array{Criterion::l2, Criterion::monotone}, "criterion");
 }
 Model parse_model(const std::string& s) {
-  return parse_named(s, {Model::elastic, Model::advection}, "model");
+  return parse_named<Model>(s, std::array{Model::elastic, Model::advection}, "model");
 }
 
 int polynomial_degree(TimeScheme s) {
-  return s == TimeScheme::euler ? 1 : 2;
+  return traits(s).stages;
 }
 
 int polynomial_degree(const AnalysisSetting& s) {

@@ -33,10 +33,14 @@ class Stepper {
   Stepper(const Grid<dim>& grid, const Boundaries<dim>& boundaries, const StepperOptions& options)
       : grid_(grid), boundaries_(boundaries), options_(options) {
     disc_.set_formulation(options.formulation);
-    if (options.time == TimeScheme::rk2)
-      integrator_.template emplace<HeunRK2<Physics>>();
-    else
-      integrator_.template emplace<ForwardEuler<Physics>>();
+    switch (options.time) {
+      case TimeScheme::euler:
+        integrator_.template emplace<ForwardEuler<Physics>>();
+        break;
+      case TimeScheme::rk2:
+        integrator_.template emplace<HeunRK2<Physics>>();
+        break;
+    }
   }
   Stepper(const Stepper&) = delete;  // the operator refers to the members
   Stepper& operator=(const Stepper&) = delete;

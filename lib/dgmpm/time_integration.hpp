@@ -4,19 +4,43 @@
 
 #include "dg_operator.hpp"
 
+#include <array>
+
 namespace dgmpm {
 
 enum class TimeScheme { euler, rk2 };
+// Every scheme, in the order names are listed to users.
+inline constexpr std::array<TimeScheme, 2> time_schemes{TimeScheme::euler, TimeScheme::rk2};
+
+// What the rest of the code derives from a scheme: its name (scenes, CLI, outputs) and its
+// number of stages, that is the operator evaluations per step: the one-step map's degree in dt
+// (stability/), and the ghost layers of cells a distributed step needs (one per stage). The
+// stages themselves are the fused sweeps of ForwardEuler and HeunRK2 below. No default branch:
+// a new scheme is a -Wswitch warning here (and in Stepper) until it is described.
+struct TimeSchemeTraits {
+  const char* name;
+  int stages;
+};
+
+constexpr TimeSchemeTraits traits(TimeScheme s) {
+  switch (s) {
+    case TimeScheme::euler:
+      return {"euler", 1};
+    case TimeScheme::rk2:
+      return {"rk2", 2};
+  }
+  return {"", 0};  // not a TimeScheme value
+}
 
 inline const char* to_string(TimeScheme s) {
-  return s == TimeScheme::euler ? "euler" : "rk2";
+  return traits(s).name;
 }
 
 template <class Physics>
 class ForwardEuler {
  public:
   using Op = DGOperator<Physics>;
-  static constexpr const char* name = "euler";
+  static constexpr TimeScheme scheme = TimeScheme::euler;
 
   // Returns whether every new particle state is finite. `particle_step`: DGOperator's.
   template <class ParticleStep = NoParticleStep>
@@ -33,7 +57,7 @@ template <class Physics>
 class HeunRK2 {
  public:
   using Op = DGOperator<Physics>;
-  static constexpr const char* name = "rk2";
+  static constexpr TimeScheme scheme = TimeScheme::rk2;
 
   // q1 = q0 + dt L(q0, t); q^{n+1} = (q0 + q1 + dt L(q1, t + dt)) / 2 (L evaluated at a damped
   // q1 at near-empty nodes: DGOperator::project_and_advance).

@@ -1,0 +1,84 @@
+"""`dgmpm run` leaves a record whatever its end: a run stopped by its blow-up check and a run
+stopped by SIGTERM both leave summary.json with their status and reason, the energy history up
+to where they stopped, and the outputs' index and ParaView series matching the particle files
+written. Exit codes: 1 for the failure (with --json, the summary still on stdout), 128 + 15 for
+SIGTERM."""
+import csv
+import json
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+binary, source, work = sys.argv[1], pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3])
+shutil.rmtree(work, ignore_errors=True)  # the wait below looks for a new file
+work.mkdir(parents=True)
+base = json.loads((source / "scenes" / "two_bar_impact.json").read_text())
+
+
+def check_record(out, status):
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == status, summary
+    with open(out / "energy.csv") as f:
+        rows = list(csv.DictReader(f))
+    # One row per step from the initial one, up to the step the run stopped at (interrupted) or
+    # the last one before the step that failed (its energy is the summary's energy_final).
+    last = summary["steps"] - (1 if status == "failed" else 0)
+    assert [int(r["step"]) for r in rows] == list(range(last + 1)), (len(rows), summary["steps"])
+    with open(out / "outputs.csv") as f:
+        index = list(csv.DictReader(f))
+    assert index, "no output written before the stop"
+    for row in index:
+        for kind in ("csv", "vtu"):
+            if row[kind]:
+                assert (out / row[kind]).is_file(), row[kind]
+    series = (out / "particles.pvd").read_text()
+    assert series.count("<DataSet") == len(index), series
+    for name in summary["files"]:
+        assert pathlib.Path(name).is_file(), name
+    return summary
+
+
+# A blow-up: Courant 1.5 with one particle per cell, outputs early enough to be written first.
+scene = dict(base)
+scene["time"] = dict(base["time"], courant=1.5, end=2e-3)
+scene["output"] = {"directory": str(work / "blow_up"), "times": [2e-5, 4e-5, 1.9e-3],
+                   "formats": ["csv", "vtu"]}
+path = work / "blow_up.json"
+path.write_text(json.dumps(scene))
+run = subprocess.run([binary, "run", str(path), "--json", "--overwrite"], capture_output=True,
+                     text=True)
+assert run.returncode == 1, (run.returncode, run.stderr)
+assert "the run is unstable" in run.stderr, run.stderr
+printed = json.loads(run.stdout)
+assert printed["status"] == "failed" and "the run is unstable" in printed["reason"], printed
+summary = check_record(work / "blow_up", "failed")
+assert summary["reason"] == printed["reason"], summary
+assert summary["steps"] >= 16, summary
+
+# SIGTERM: a long run stopped after a second; the record shows where it stopped.
+scene = dict(base)
+scene["grid"] = dict(base["grid"], cell_size=[0.0004], cells=[15000])
+scene["time"] = dict(base["time"], end=1.0, max_steps=100000000)
+scene["output"] = {"directory": str(work / "interrupted"), "times": [1e-6, 2e-6, 0.5],
+                   "formats": ["csv", "vtu"]}
+scene.pop("exact")
+path = work / "interrupted.json"
+path.write_text(json.dumps(scene))
+process = subprocess.Popen([binary, "run", str(path), "--overwrite", "--threads", "1"],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+deadline = time.time() + 60
+while not (work / "interrupted" / "particles_001.csv").exists() and time.time() < deadline:
+    time.sleep(0.1)
+time.sleep(0.5)
+process.send_signal(signal.SIGTERM)
+stdout, stderr = process.communicate(timeout=60)
+assert process.returncode == 128 + signal.SIGTERM, (process.returncode, stderr)
+assert "interrupted:" in stderr and "SIGTERM" in stderr, stderr
+summary = check_record(work / "interrupted", "interrupted")
+assert "SIGTERM" in summary["reason"] and 0 < summary["final_time"] < 1.0, summary
+print("run records: blow-up at step %d, SIGTERM at step %d" %
+      (printed["steps"], summary["steps"]))
