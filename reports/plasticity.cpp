@@ -156,7 +156,7 @@ struct WaveRun {
   double wall = 0, sigma_error = 0, eps_error = 0, energy_change = 0;
 };
 
-// The thesis's founding plate with a plastic steel (scenes/plate_plastic.json) by DGMPM as
+// The founding paper's plate with a plastic steel (scenes/plate_plastic.json) by DGMPM as
 // shipped and by MPM USF, particle files at 5e-4 and 1e-3 s under dir/plate_plastic_<tag>.
 struct PlateRun {
   const char* tag;

@@ -146,6 +146,10 @@ int run(const RunArguments& args) {
     RunOptions options;
     if (!args.checkpoint_every.empty()) parse_checkpoint_every(args.checkpoint_every, options);
     options.checkpoint_keep = args.checkpoint_keep;
+    if (args.checkpoint_keep > 0 && args.checkpoint_every.empty())
+      throw scene::SceneError("--checkpoint-keep: value " + std::to_string(args.checkpoint_keep) +
+                              " keeps the newest checkpoints, but none are written; allowed: "
+                              "with --checkpoint-every");
     std::string scene_path = args.scene;
     if (!args.restart.empty() && !args.scene_given) {  // the scene the checkpoint was written by
       scene_path = checkpoint::read(args.restart).header.value("scene_source", std::string());
@@ -164,6 +168,13 @@ int run(const RunArguments& args) {
     options.stop = &stop_requested;
     if (root)
       for (const auto& w : sim.warnings()) std::cerr << "warning: " << w << std::endl;
+    const double first_checkpoint =
+        options.checkpoint_seconds * (std::floor(sim.time() / options.checkpoint_seconds) + 1);
+    if (root && options.checkpoint_seconds > 0 && first_checkpoint >= scene.time.end)
+      std::cerr << "warning: --checkpoint-every " << args.checkpoint_every
+                << ": the first checkpoint would be at t = " << first_checkpoint
+                << " s, not before the end time " << scene.time.end << " s: none is written"
+                << std::endl;
     const RunSummary summary = sim.run(options);
     // Interrupted: the shell's convention for a process a signal ended, after the record.
     const int code = summary.status == "interrupted" ? 128 + static_cast<int>(stop_requested) : 0;

@@ -90,7 +90,8 @@ class SimulationBase {
   virtual const std::optional<RunSummary>& last_summary() const = 0;
   virtual int num_particles() const = 0;
   virtual int num_cells() const = 0;
-  virtual long steps() const = 0;  // taken so far
+  virtual long steps() const = 0;   // taken so far
+  virtual double time() const = 0;  // simulated so far (a restart's: its checkpoint's)
   // Continues from a checkpoint written by run(): the next run() ends bit for bit as the run that
   // wrote it would have. Throws scene::SceneError for a checkpoint of another scene or version.
   virtual void restore(const std::string& checkpoint) = 0;
@@ -124,7 +125,7 @@ class Simulation final : public SimulationBase {
   const Halo<ParticleSet>* halo() const { return halo_.get(); }
   int num_particles() const override { return total_particles_; }
   int num_cells() const override { return total_cells_; }
-  double time() const { return time_; }
+  double time() const override { return time_; }
   long steps() const override { return steps_; }
 
   // Step length of the current configuration: from the scene's Courant number, or from the

@@ -808,8 +808,9 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   claim_directory(record, resumed);
   open_history(record, resumed);
   const double expected = expected_steps();
-  const bool progress = options.progress && root() && ::isatty(STDERR_FILENO);
-  if (progress)
+  const bool progress = options.progress && root();
+  const bool terminal = progress && ::isatty(STDERR_FILENO);
+  if (terminal)
     std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(),
                  expected - steps_, dt_);
   const auto seconds = [&] { return std::chrono::duration<double>(clock::now() - start).count(); };
@@ -818,11 +819,11 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     stopped = time_loop(record, progress);
     if (!stopped && scene_.time.blow_up_check) check_growth();  // runs shorter than its interval
   } catch (const std::exception& e) {
-    if (progress) std::fprintf(stderr, "\r%78s\r", "");
+    if (terminal) std::fprintf(stderr, "\r%78s\r", "");
     record_failure(record, seconds(), e.what());
     throw;
   }
-  if (progress) std::fprintf(stderr, "\r%78s\r", "");
+  if (terminal) std::fprintf(stderr, "\r%78s\r", "");
   RunSummary summary = summarise();
   if (stopped) {
     std::ostringstream reason;
@@ -840,8 +841,13 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
 
 // The steps to the end time with the outputs and checkpoints due on the way; returns 0 there, or
 // the signal that asked the run to stop (after a whole step, every rank at the same one).
+// `progress`: a line on stderr, rewritten twice a second on a terminal, a new line every 10 s
+// otherwise (a batch job's log), from 2 s (10 s) into the loop.
 template <class Physics>
 int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
+  const bool terminal = progress && ::isatty(STDERR_FILENO);
+  const double first = terminal ? 2.0 : 10.0;
+  const auto every = terminal ? std::chrono::milliseconds(500) : std::chrono::milliseconds(10000);
   const auto start = std::chrono::steady_clock::now();
   auto last_report = start;
   const double t_end = scene_.time.end;
@@ -872,11 +878,12 @@ int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
     if (progress) {
       const auto now = std::chrono::steady_clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
-      if (elapsed > 2.0 && now - last_report > std::chrono::milliseconds(500)) {
+      if (elapsed > first && now - last_report > every) {
         last_report = now;
         const double left = elapsed * (t_end - time_) / time_;
-        std::fprintf(stderr, "\rstep %ld  t = %.6g / %.6g  (%.1f%%)  about %.0f s left   ", steps_,
-                     time_, t_end, 100.0 * time_ / t_end, left);
+        std::fprintf(stderr, "%sstep %ld  t = %.6g / %.6g  (%.1f%%)  about %.0f s left%s",
+                     terminal ? "\r" : "", steps_, time_, t_end, 100.0 * time_ / t_end, left,
+                     terminal ? "   " : "\n");
       }
     }
   }

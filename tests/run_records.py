@@ -7,6 +7,8 @@ import csv
 import json
 import os
 import pathlib
+import re
+import select
 import shutil
 import signal
 import subprocess
@@ -59,7 +61,8 @@ summary = check_record(work / "blow_up", "failed")
 assert summary["reason"] == printed["reason"], summary
 assert summary["steps"] >= 16, summary
 
-# SIGTERM: a long run stopped after a second; the record shows where it stopped.
+# SIGTERM: a long run stopped once it has said where it is (its stderr is not a terminal: a new
+# progress line every 10 s, as a batch job's log gets); the record shows where it stopped.
 scene = dict(base)
 scene["grid"] = dict(base["grid"], cell_size=[0.0004], cells=[15000])
 scene["time"] = dict(base["time"], end=1.0, max_steps=100000000)
@@ -71,14 +74,32 @@ path.write_text(json.dumps(scene))
 process = subprocess.Popen([binary, "run", str(path), "--overwrite", "--threads", "1"],
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 deadline = time.time() + 60
-while not (work / "interrupted" / "particles_001.csv").exists() and time.time() < deadline:
-    time.sleep(0.1)
-time.sleep(0.5)
+progress = ""
+while "s left" not in progress and time.time() < deadline:
+    ready, _, _ = select.select([process.stderr], [], [], 1.0)
+    if ready:
+        progress = process.stderr.readline()
+assert re.fullmatch(r"step \d+  t = \S+ / 1  \(\d+\.\d%\)  about \d+ s left\n", progress), progress
+assert (work / "interrupted" / "particles_001.csv").exists()
 process.send_signal(signal.SIGTERM)
 stdout, stderr = process.communicate(timeout=60)
 assert process.returncode == 128 + signal.SIGTERM, (process.returncode, stderr)
 assert "interrupted:" in stderr and "SIGTERM" in stderr, stderr
 summary = check_record(work / "interrupted", "interrupted")
 assert "SIGTERM" in summary["reason"] and 0 < summary["final_time"] < 1.0, summary
+# Checkpoint settings that would do nothing are not silent: a number to keep without checkpoints
+# is refused (exit 2), a checkpoint interval past the end time is warned about.
+scene = dict(base)
+scene["output"] = {"directory": str(work / "checkpoints"), "times": []}
+path = work / "checkpoints.json"
+path.write_text(json.dumps(scene))
+keep = subprocess.run([binary, "run", str(path), "--checkpoint-keep", "2"], capture_output=True,
+                      text=True)
+assert keep.returncode == 2 and "--checkpoint-keep: value 2" in keep.stderr, keep
+late = subprocess.run([binary, "run", str(path), "--checkpoint-every", "1e-3s"],
+                      capture_output=True, text=True)
+assert late.returncode == 0 and "none is written" in late.stderr, late
+assert not list((work / "checkpoints").glob("*.ckpt")), list((work / "checkpoints").iterdir())
+
 print("run records: blow-up at step %d, SIGTERM at step %d" %
       (printed["steps"], summary["steps"]))
