@@ -192,6 +192,7 @@ class Simulation final : public SimulationBase {
   void check_growth();
   Energy particle_energy(int i) const;
   void warn_if_above_admissible();
+  void warn_about_untouched_loads();
   void warn_if_overfull_cell(long step, double t);
   // time.check_scene_every: halves dt_ until the frozen scene's spectral radius is at most 1.
   void check_scene(long step, double t);

@@ -147,6 +147,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
     mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
                                           mpm_variant(scene_.method), scene_.update);
   }
+  warn_about_untouched_loads();
   if (ranks && ranks->size() > 1) distribute(*ranks);
   initial_energy_ = energy();
   setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -789,6 +790,44 @@ double Simulation<Physics>::next_checkpoint_time(const RunRecord& record) const 
   const double every = record.options.checkpoint_seconds;
   return every > 0 ? (std::floor(time_ / every) + 1) * every
                    : std::numeric_limits<double>::infinity();
+}
+
+// A traction or velocity on a side, or on a segment of it, that no particle's cell reaches does
+// nothing: said at set-up rather than left silent.
+template <class Physics>
+void Simulation<Physics>::warn_about_untouched_loads() {
+  const auto& grid = problem_.grid;
+  const auto& p = problem_.particles;
+  static constexpr const char* sides[3][2] = {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}};
+  Eigen::Matrix<double, dim, 1> xi;
+  for (int a = 0; a < dim; ++a)
+    for (int s = 0; s < 2; ++s)
+      for (const scene::BoundarySpec& b : scene_.boundaries[a][s]) {
+        const bool loads = b.kind == BoundaryKind::traction || b.kind == BoundaryKind::velocity;
+        if (!loads ||
+            std::all_of(b.values.begin(), b.values.end(), [](double v) { return v == 0; }))
+          continue;
+        bool reached = false;
+        for (int i = 0; i < p.size() && !reached; ++i) {
+          const auto cell = grid.unflatten(grid.locate(p.position.col(i), xi));
+          if (cell[a] != (s == 0 ? 0 : grid.cells[a] - 1)) continue;
+          reached = true;
+          if (dim > 1 && b.has_range) {  // the cell must overlap the segment along the side
+            const int t = 1 - a;
+            const double lo = grid.origin[t] + cell[t] * grid.cell_size[t];
+            reached = lo < b.range_hi && lo + grid.cell_size[t] > b.range_lo;
+          }
+        }
+        if (!reached) {
+          std::ostringstream w;
+          w << "boundaries." << sides[a][s] << ": the " << to_string(b.kind) << " there does "
+            << "nothing: no particle is in the cells along that side";
+          if (dim > 1 && b.has_range)
+            w << " within its range [" << b.range_lo << ", " << b.range_hi << "] m";
+          w << " (a body that does not reach the grid's edge is loaded by nothing)";
+          warnings_.push_back(w.str());
+        }
+      }
 }
 
 template <class Physics>

@@ -101,5 +101,22 @@ late = subprocess.run([binary, "run", str(path), "--checkpoint-every", "1e-3s"],
 assert late.returncode == 0 and "none is written" in late.stderr, late
 assert not list((work / "checkpoints").glob("*.ckpt")), list((work / "checkpoints").iterdir())
 
+# A load on a side no body reaches is said, not silent: the bar starts half a metre in.
+scene = dict(base)
+scene["bodies"] = [dict(base["bodies"][0], box={"min": [0.5], "max": [3.0]}), base["bodies"][1]]
+scene["boundaries"] = {"xmin": {"type": "traction", "value": [[0.0, -1e8], [1.0, -1e8]]},
+                      "xmax": {"type": "free"}}
+scene["output"] = {"directory": str(work / "untouched"), "times": []}
+scene.pop("exact")
+path = work / "untouched.json"
+path.write_text(json.dumps(scene))
+loose = subprocess.run([binary, "run", str(path)], capture_output=True, text=True)
+assert loose.returncode == 0, loose
+assert "warning: boundaries.xmin: the traction there does nothing" in loose.stderr, loose.stderr
+scene["bodies"] = base["bodies"]
+path.write_text(json.dumps(scene))
+touching = subprocess.run([binary, "run", str(path)], capture_output=True, text=True)
+assert touching.returncode == 0 and "does nothing" not in touching.stderr, touching.stderr
+
 print("run records: blow-up at step %d, SIGTERM at step %d" %
       (printed["steps"], summary["steps"]))

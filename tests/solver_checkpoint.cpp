@@ -46,7 +46,7 @@ json bar_1d(const std::string& method, bool move, const std::string& integrator,
             const json& courant) {
   return {{"dimension", 1},
           {"method", method},
-          {"grid", {{"origin", {-0.2}}, {"cell_size", {0.1}}, {"cells", {16}}}},
+          {"grid", {{"origin", {0.0}}, {"cell_size", {0.1}}, {"cells", {16}}}},
           {"materials", {{"steel", {{"young", 2e11}, {"density", 7800}}}}},
           {"bodies",
            {{{"material", "steel"},
