@@ -188,14 +188,13 @@ scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
        {{"xmin", {{{"type", "traction"}, {"value", {-2e8, 0.0}}, {"range", {0.0, 1.0}}}}}}},
       {"time", {{"end", 1.0}, {"integrator", integrator}, {"courant", 0.5}}}};
   if (method == "dgmpm") doc["flux"] = flux;
+  auto& steel = doc["materials"]["steel"];
   if (yielding != Yielding::none) {
-    auto& steel = doc["materials"]["steel"];
     steel["model"] = "elastoplastic";
     steel["yield_stress"] = 1e8;  // half the load
     steel["isotropic_hardening"] = 2e9;
   }
   if (yielding == Yielding::every_particle) {
-    auto& steel = doc["materials"]["steel"];
     steel["model"] = "elasto_viscoplastic";
     steel["relaxation_time"] = 1.0;
     steel["rate_exponent"] = 1.0;

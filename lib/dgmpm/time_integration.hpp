@@ -40,7 +40,6 @@ template <class Physics>
 class ForwardEuler {
  public:
   using Op = DGOperator<Physics>;
-  static constexpr TimeScheme scheme = TimeScheme::euler;
 
   // Returns whether every new particle state is finite. `particle_step`: DGOperator's.
   template <class ParticleStep = NoParticleStep>
@@ -57,7 +56,6 @@ template <class Physics>
 class HeunRK2 {
  public:
   using Op = DGOperator<Physics>;
-  static constexpr TimeScheme scheme = TimeScheme::rk2;
 
   // q1 = q0 + dt L(q0, t); q^{n+1} = (q0 + q1 + dt L(q1, t + dt)) / 2 (L evaluated at a damped
   // q1 at near-empty nodes: DGOperator::project_and_advance).
