@@ -116,16 +116,17 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
     dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
     if (!time_control_->automatic()) warn_if_above_admissible();
     if (dim > 1 && time_control_->automatic() && scene_.particles_move) {
-      const int cell = time_control_->first_cell_past_the_lattice(stepper_->discretisation());
+      const int cell = time_control_->first_cell_past_the_lattice(stepper_->discretisation(),
+                                                                  problem_.particles);
       if (cell >= 0)
         warnings_.push_back(
             "\"courant\": \"auto\" with moving particles: cell " + std::to_string(cell) +
-            " holds more particles than the layout lattice bounds (one or two per cell in 2D, "
-            "under the consistent formulation): such layouts are analysed anew as their "
-            "particles drift, 0.05-0.5 s each and several per step, and choosing steps may take "
-            "most of the run (the plate with 2 x 2 moving particles per cell: 1-3 s per "
-            "step); a fixed Courant number below `dgmpm courant`'s limit for the layout, with "
-            "time.check_scene_every as a guard, is far cheaper");
+            " holds a layout no lattice bounds (under the consistent formulation: one or two "
+            "particles per cell, or any number placed as a product of per-axis positions): such "
+            "layouts are analysed anew as their particles drift, 0.05-0.5 s each and several per "
+            "step, and choosing steps may take most of the run; a fixed Courant number below "
+            "`dgmpm courant`'s limit for the layout, with time.check_scene_every as a guard, is "
+            "far cheaper");
     }
     if (scene_.time.check_scene_every > 0) check_scene(0, 0.0);
     if (scene_.formulation == Formulation::paper) warn_if_overfull_cell(0, 0.0);

@@ -15,12 +15,13 @@
 // the whole scene's operator.
 //
 // Layouts are analysed once and cached. Fixed particles' layouts are keyed to 1e-9. Moving
-// particles' positions drift every step, so a cell's C* is bounded from a lattice of positions
-// instead (LayoutLattice): the smallest C* over the corners of the lattice box that holds the
-// layout, corners analysed once each, for layouts of up to four coordinates; larger layouts are
-// rounded to 1/4096 (LayoutQuantisation). The paper's formulation keeps the rounding for all:
-// there C* -> 0 as a particle closes on a node (and jumps back to 1 on it), which no lattice box
-// bounds usefully.
+// particles' positions drift every step, so a cell's C* is bounded from a lattice instead: the
+// smallest C* over the corners of the lattice box that holds the layout, corners analysed once
+// each. Layouts of up to four coordinates take a lattice of positions (LayoutLattice); larger
+// ones a lattice of their mass moments (per axis mean and spread) when they are products of
+// per-axis positions or close to one; others are rounded to 1/4096 (LayoutQuantisation). The
+// paper's formulation keeps the rounding for all: there C* -> 0 as a particle closes on a node
+// (and jumps back to 1 on it), which no lattice box bounds usefully.
 
 #include "solver/scene.hpp"
 
@@ -35,6 +36,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <map>
 #include <set>
@@ -171,7 +173,7 @@ class TimeStepControl : public LayoutQuantisation {
 #pragma omp parallel for reduction(min : dt) schedule(static)
       for (int c = 0; c < cells; ++c) {
         if (!disc.occupied(c)) continue;
-        const double cs = cached_courant(disc, c);
+        const double cs = cached_courant(disc, particles, c);
         if (std::isnan(cs)) {
 #pragma omp critical(dgmpm_time_step_misses)
           misses_.push_back(c);
@@ -223,15 +225,19 @@ class TimeStepControl : public LayoutQuantisation {
     return static_cast<int>(keys.size());
   }
 
-  // The first occupied cell whose layout the lattice does not bound (more than
-  // kLatticeCoordinates coordinates, or every cell under the paper's formulation): analysed at
-  // each new rounded layout as its particles drift. -1 when there is none.
-  int first_cell_past_the_lattice(const Disc& disc) const {
+  // The first occupied cell whose layout no lattice bounds (more than kLatticeCoordinates
+  // coordinates and not within kTensorTolerance of a tensor product, or every cell under the
+  // paper's formulation): analysed at each new rounded layout as its particles drift. -1 when
+  // there is none.
+  int first_cell_past_the_lattice(const Disc& disc, const ParticleSet& particles) const {
     for (int c = 0; c < disc.num_cells(); ++c) {
       if (!disc.occupied(c)) continue;
       const int n = disc.cell_end(c) - disc.cell_begin(c);
       if (n == 1 && lone_particle_shared_) continue;
-      if (!lattice_ || n * dim > kLatticeCoordinates) return c;
+      if (!lattice_) return c;
+      if (n * dim > kLatticeCoordinates &&
+          moments_of(disc, particles, c).non_tensor > kTensorTolerance)
+        return c;
     }
     return -1;
   }
@@ -260,7 +266,7 @@ class TimeStepControl : public LayoutQuantisation {
   // times min(1, fill).
   double cell_courant(const Disc& disc, const ParticleSet& particles, int c) {
     const double small_cell = std::min(1.0, disc.fill(c));
-    if (const double cached = cached_courant(disc, c); !std::isnan(cached))
+    if (const double cached = cached_courant(disc, particles, c); !std::isnan(cached))
       return small_cell * cached;
     if (lone_shared(disc, c)) {
       fill_entries(disc, particles, c, quantum_);
@@ -270,6 +276,9 @@ class TimeStepControl : public LayoutQuantisation {
     const int n = disc.cell_end(c) - disc.cell_begin(c);
     if (lattice_ && n * dim <= kLatticeCoordinates)
       return small_cell * lattice_courant(disc, particles, c);
+    if (lattice_)
+      if (const double bound = moment_courant(disc, particles, c); !std::isnan(bound))
+        return small_cell * bound;
     fill_entries(disc, particles, c, quantum_);
     return small_cell * analysed(disc, c);
   }
@@ -306,6 +315,7 @@ class TimeStepControl : public LayoutQuantisation {
   // Lattice boxes already bounded: a code of the cell's particle count, lattice boxes, masses
   // (equal, or an index into masses_seen_) and Poisson's ratio (index into poisson_seen_).
   std::unordered_map<std::uint64_t, double> boxes_;
+  std::unordered_map<std::uint64_t, double> moment_boxes_;  // moment_code's boxes
   std::vector<std::uint64_t> last_code_;  // per cell: its lone particle's last box code (0: none)
   std::vector<double> last_courant_;      // and that box's C*
   std::vector<std::vector<double>> masses_seen_;
@@ -325,8 +335,17 @@ class TimeStepControl : public LayoutQuantisation {
 
   // C* of a lone particle's cell when a cache holds it, without building a key (the common
   // case), else NaN. Reads the caches and writes only cell c's memo: callable from threads.
-  double cached_courant(const Disc& disc, int c) {
-    if (disc.cell_end(c) - disc.cell_begin(c) != 1) return kMiss;
+  double cached_courant(const Disc& disc, const ParticleSet& particles, int c) {
+    const int n = disc.cell_end(c) - disc.cell_begin(c);
+    if (n != 1) {
+      if (!lattice_ || n * dim <= kLatticeCoordinates) return kMiss;
+      const Moments moments = moments_of(disc, particles, c);
+      if (moments.non_tensor > kTensorTolerance) return kMiss;
+      const std::uint64_t code = moment_code(disc, c, moments, false);
+      const auto it = code == 0 ? moment_boxes_.end() : moment_boxes_.find(code);
+      return it == moment_boxes_.end() ? kMiss
+                                       : (1.0 - kTensorSlope * moments.non_tensor) * it->second;
+    }
     if (lone_particle_shared_) {
       const double nu = poisson_of(disc, c);
       for (const auto& [n, courant] : lone_courant_)
@@ -455,6 +474,30 @@ class TimeStepControl : public LayoutQuantisation {
                : strict.courant;
   }
 
+  // Lattice corners not analysed yet (`missing`, their keys), analysed on threads (each analysis
+  // gives the same answer whatever the thread count) into corner_cache_.
+  void analyse_corners(const Disc& disc, int c, const std::vector<std::vector<double>>& missing,
+                       const std::vector<stability::CellLayout>& layouts) {
+    if (missing.empty()) return;
+    const auto start = std::chrono::steady_clock::now();
+    const stability::AnalysisSetting setting = setting_of(disc, c);
+    std::vector<double> found(missing.size());
+    std::exception_ptr failure;  // an exception must not leave a parallel region
+#pragma omp parallel for schedule(dynamic) if (missing.size() > 1)
+    for (std::size_t i = 0; i < missing.size(); ++i) {
+      try {
+        found[i] = analyse(layouts[i], setting, true);
+      } catch (...) {
+#pragma omp critical(dgmpm_corner_failure)
+        if (!failure) failure = std::current_exception();
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+    for (std::size_t i = 0; i < missing.size(); ++i) corner_cache_.emplace(missing[i], found[i]);
+    analysis_seconds_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
   // The smallest C* over the corners of the lattice box holding cell c's layout (moving
   // particles, at most kLatticeCoordinates coordinates), through the box cache.
   double lattice_courant(const Disc& disc, const ParticleSet& particles, int c) {
@@ -476,8 +519,7 @@ class TimeStepControl : public LayoutQuantisation {
     code = code << 16 | static_cast<std::uint64_t>(masses);
     code = code << 8 | static_cast<std::uint64_t>(poisson);
     if (const auto it = boxes_.find(code); it != boxes_.end()) return it->second;
-    // The corners not analysed yet, analysed on threads (each analysis gives the same answer
-    // whatever the thread count), then the smallest over all corners.
+    // The corners not analysed yet, analysed, then the smallest over all corners.
     const std::vector<Entry> actual = entries_;
     const auto& points = Lattice::points();
     const int corners = 1 << (n * dim);
@@ -497,21 +539,173 @@ class TimeStepControl : public LayoutQuantisation {
         layouts.push_back(key_layout());
       }
     }
-    if (!missing.empty()) {
-      const auto start = std::chrono::steady_clock::now();
-      const stability::AnalysisSetting setting = setting_of(disc, c);
-      std::vector<double> found(missing.size());
-#pragma omp parallel for schedule(dynamic) if (missing.size() > 1)
-      for (std::size_t i = 0; i < missing.size(); ++i)
-        found[i] = analyse(layouts[i], setting, true);
-      for (std::size_t i = 0; i < missing.size(); ++i) corner_cache_.emplace(missing[i], found[i]);
-      analysis_seconds_ +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
+    analyse_corners(disc, c, missing, layouts);
     double courant = std::numeric_limits<double>::infinity();
     for (const auto& key : keys) courant = std::min(courant, corner_cache_.at(key));
     boxes_.emplace(code, courant);
     return courant;
+  }
+
+  // A cell's layout seen through its mass moments (local coordinates, weighted by mass, over the
+  // cell's mass), which are all its C* depends on (docs/method.md): per axis the mean mu and the
+  // spread, the standard deviation as a fraction of the largest a layout of that mean can have,
+  // sqrt(mu (1 - mu)) (so that near a node it scales with the distance to it, as the mean's
+  // lattice does); and how far it is from the tensor product of those marginals: the largest
+  // |M_ab - M_a0 M_0b| over a, b in {1, 2}, M_ab = sum m x^a y^b / sum m (0 in 1D).
+  struct Moments {
+    std::array<double, dim> mean{}, spread{};
+    double non_tensor = 0;
+  };
+  static Moments moments_of(const Disc& disc, const ParticleSet& particles, int c) {
+    std::array<std::array<double, 3>, 3> sum{};  // sum m x^a y^b, a, b <= 2 (b = 0 in 1D)
+    for (int e = disc.cell_begin(c); e < disc.cell_end(c); ++e) {
+      const int p = disc.entry_particle(e);
+      const auto xi = disc.particle_local(p);
+      const double x = xi[0], y = dim > 1 ? xi[dim - 1] : 0.0, m = particles.mass[p];
+      const std::array<double, 3> px{1.0, x, x * x}, py{1.0, y, y * y};
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < (dim > 1 ? 3 : 1); ++b) sum[a][b] += m * px[a] * py[b];
+    }
+    Moments moments;
+    const double mass = sum[0][0];
+    for (int axis = 0; axis < dim; ++axis) {
+      const double first = axis == 0 ? sum[1][0] / mass : sum[0][1] / mass;
+      const double second = axis == 0 ? sum[2][0] / mass : sum[0][2] / mass;
+      const double largest = first * (1.0 - first);
+      moments.mean[axis] = first;
+      moments.spread[axis] =
+          largest > 0 ? std::sqrt(std::clamp((second - first * first) / largest, 0.0, 1.0)) : 0.0;
+    }
+    if constexpr (dim > 1)
+      for (int a = 1; a <= 2; ++a)
+        for (int b = 1; b <= 2; ++b)
+          moments.non_tensor =
+              std::max(moments.non_tensor,
+                       std::abs(sum[a][b] / mass - sum[a][0] / mass * (sum[0][b] / mass)));
+    return moments;
+  }
+
+  // The moment lattice: per axis the position lattice for the mean, and for the spread (0 to 1)
+  // the points (k - 1/2) / kSpreads, so that the spreads of regular n x n seedings (1/2 for
+  // n = 2, 0.544 for 3) lie inside a box, not on a face where drift would visit two boxes. A
+  // box's code: per axis the two box indices (8 bits each), then the Poisson ratio's index.
+  static constexpr int kSpreads = dim == 1 ? 32 : 16;
+  static double spread_point(int k) {
+    return k == 0 ? 0.0 : std::min(1.0, (k - 0.5) / kSpreads);
+  }
+  static int spread_box(double spread) {  // [spread_point(k), spread_point(k + 1)]
+    return std::clamp(static_cast<int>(spread * kSpreads + 0.5), 0, kSpreads);
+  }
+
+  // Layouts this close to a tensor product (non_tensor <= kTensorTolerance) take their
+  // marginals' box, lowered by kTensorSlope times non_tensor relative; farther ones are analysed
+  // as they are. Sheared 2 x 2 and 3 x 3 layouts (DCU and CTU Euler, DCU RK2, centred and off
+  // centre) change C* by at most 2.7 non_tensor relative (tests/solver_time_step_2d.cpp checks
+  // the slope with room to spare).
+  static constexpr double kTensorTolerance = 2e-3, kTensorSlope = 5.0;
+
+  // One axis's layout of the given mean and (relative) spread as at most two weighted points in
+  // [0, 1]: equal weights at mean -+ the standard deviation where both lie in the cell, else one
+  // point on the nearer node.
+  static int marginal_points(double mean, double spread, std::array<double, 2>& x,
+                             std::array<double, 2>& w) {
+    const double variance = spread * spread * mean * (1.0 - mean);
+    const double deviation = std::sqrt(variance);
+    if (variance <= 0) {
+      x = {mean, mean};
+      w = {1.0, 0.0};
+      return 1;
+    }
+    if (deviation <= std::min(mean, 1.0 - mean)) {
+      x = {mean - deviation, mean + deviation};
+      w = {0.5, 0.5};
+    } else if (mean < 0.5) {  // a point on node 0 and one at mean + variance / mean
+      const double b = std::min(1.0, mean + variance / mean);
+      x = {0.0, b};
+      w = {1.0 - mean / b, mean / b};
+    } else {  // the mirror image
+      const double a = std::max(0.0, mean - variance / (1.0 - mean));
+      x = {a, 1.0};
+      w = {(1.0 - mean) / (1.0 - a), 1.0 - (1.0 - mean) / (1.0 - a)};
+    }
+    return 2;
+  }
+
+  // The box code of cell c's moments; 0 when its Poisson ratio has no index yet and `add` is
+  // false (the threads' read-only lookup) or has no room in the code.
+  std::uint64_t moment_code(const Disc& disc, int c, const Moments& moments, bool add) {
+    std::uint64_t code = 1;
+    for (int a = 0; a < dim; ++a)
+      code = code << 16 | static_cast<std::uint64_t>(Lattice::box(moments.mean[a])) << 8 |
+             static_cast<std::uint64_t>(spread_box(moments.spread[a]));
+    int poisson = 0;
+    if constexpr (dim > 1) {
+      const double nu = disc.cell_material(c).poisson;
+      const auto it = std::find(poisson_seen_.begin(), poisson_seen_.end(), nu);
+      if (it != poisson_seen_.end())
+        poisson = static_cast<int>(it - poisson_seen_.begin());
+      else if (add)
+        poisson = poisson_index(disc, c);
+      else
+        return 0;
+    }
+    if (poisson >= (1 << 8)) return 0;
+    return code << 8 | static_cast<std::uint64_t>(poisson);
+  }
+
+  // The smallest C* over the corners of the moment box of cell c's layout, lowered for its
+  // distance from a tensor product; NaN for a layout too far from one (analysed as it is).
+  double moment_courant(const Disc& disc, const ParticleSet& particles, int c) {
+    const Moments moments = moments_of(disc, particles, c);
+    if (moments.non_tensor > kTensorTolerance) return kMiss;
+    const std::uint64_t code = moment_code(disc, c, moments, true);
+    if (code == 0) return kMiss;
+    const double shear = 1.0 - kTensorSlope * moments.non_tensor;
+    if (const auto it = moment_boxes_.find(code); it != moment_boxes_.end())
+      return shear * it->second;
+    std::array<int, dim> mean_box{}, spread_box_of{};
+    for (int a = 0; a < dim; ++a) {
+      mean_box[a] = Lattice::box(moments.mean[a]);
+      spread_box_of[a] = spread_box(moments.spread[a]);
+    }
+    const auto& points = Lattice::points();
+    std::vector<std::vector<double>> keys, missing;
+    std::vector<stability::CellLayout> layouts;
+    for (int corner = 0; corner < (1 << (2 * dim)); ++corner) {
+      // Per axis a mean and a spread of the box's corners, and their points.
+      std::array<std::array<double, 2>, dim> x{}, w{};
+      std::array<int, dim> count{};
+      for (int a = 0; a < dim; ++a) {
+        const double mean = points[mean_box[a] + ((corner >> (2 * a)) & 1)];
+        const double spread = spread_point(spread_box_of[a] + ((corner >> (2 * a + 1)) & 1));
+        count[a] = marginal_points(mean, spread, x[a], w[a]);
+      }
+      entries_.clear();  // the tensor product of the axes' points
+      for (int i = 0; i < count[0]; ++i)
+        for (int j = 0; j < (dim > 1 ? count[dim - 1] : 1); ++j) {
+          Entry entry;
+          entry.x[0] = x[0][i];
+          entry.mass = w[0][i];
+          if constexpr (dim > 1) {
+            entry.x[1] = x[1][j];
+            entry.mass *= w[1][j];
+          }
+          entries_.push_back(entry);
+        }
+      std::sort(entries_.begin(), entries_.end());
+      fill_key(disc, c);
+      keys.push_back(key_);
+      if (!corner_cache_.count(key_) &&
+          std::find(missing.begin(), missing.end(), key_) == missing.end()) {
+        missing.push_back(key_);
+        layouts.push_back(key_layout());
+      }
+    }
+    analyse_corners(disc, c, missing, layouts);
+    double courant = std::numeric_limits<double>::infinity();
+    for (const auto& key : keys) courant = std::min(courant, corner_cache_.at(key));
+    moment_boxes_.emplace(code, courant);
+    return shear * courant;
   }
 
   // 0 for equal masses, else 1 + the index of entries_' relative masses among those seen.

@@ -54,8 +54,10 @@ SearchResult search_torus(L2Criterion& l2, const SearchOptions& options, L2Margi
   };
   for (int round = 0; round < 8; ++round) {
     probes.back() = l2.sharpen(hi, probes.back());
-    // The probes' first transition: below lo if one of them already fails there.
-    while (scanned > 0 && local(lo) > tolerance) hi = lo, lo = --scanned * step;
+    // The probes' first transition: below lo if one of them already fails there, or if the
+    // candidate that failed lies below lo (rounded down past the scan point).
+    while (scanned > 0 && (hi <= lo || local(lo) > tolerance))
+      hi = std::min(hi, lo), lo = --scanned * step;
     SearchResult s = refine_admissible_courant(local, lo, hi, options);
     evaluations += s.evaluations;
     // Rounded up: the full margin must pass with a tenth of the tolerance there, else C* is the

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <gsl/gsl_roots.h>
 #include <stdexcept>
+#include <string>
 
 namespace dgmpm::stability {
 namespace {
@@ -92,7 +93,8 @@ SearchResult refine_admissible_courant(const std::function<double(double)>& marg
   Shifted shifted{margin, options.margin_tolerance, result.evaluations};
   const double scanned = lo;
   if (!(hi > lo && lo >= 0.0))
-    throw std::invalid_argument("refine_admissible_courant: needs 0 <= lo < hi");
+    throw std::invalid_argument("refine_admissible_courant: needs 0 <= lo < hi, got lo = " +
+                                std::to_string(lo) + ", hi = " + std::to_string(hi));
   // Refine: Brent keeps a sign change in its bracket, not necessarily the first one when several
   // transitions hide between two scan points; both ends are checked, and the search goes on in
   // the part of the bracket that still starts passing and ends failing.

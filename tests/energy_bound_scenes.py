@@ -62,6 +62,10 @@ def scenes():
         s[f"1d two steel bars, 2 per cell, {t}"] = bar(
             [body("steel", [0.0], [3.0], [50.0], ppc=2), body("steel", [3.0], [6.0], [-50.0], ppc=2)],
             steel, 0.002, t, True)
+        # Six per cell: past the position lattice, bounded from the moment lattice.
+        s[f"1d two steel bars, 6 per cell, {t}"] = bar(
+            [body("steel", [0.0], [3.0], [50.0], ppc=6), body("steel", [3.0], [6.0], [-50.0], ppc=6)],
+            steel, 0.002, t, True)
         s[f"1d aluminium on steel, 3 per cell, {t}"] = bar(
             [body("steel", [0.0], [3.0], [30.0], ppc=3), body("alu", [3.0], [6.0], [-30.0], ppc=3)],
             {"steel": STEEL, "alu": ALUMINIUM}, 0.003, t, True)
@@ -86,6 +90,14 @@ def scenes():
             [body("steel", [0.24, 0.24], [1.2, 1.56], [150.0, 20.0]),
              body("steel", [1.2, 0.36], [2.16, 1.44], [-150.0, 0.0])], steel,
             1e-3 if t == "euler" else 3e-4, t, f, True, boundaries=free)
+        # 2 x 2 moving particles per cell: steps bounded from the moment lattice.
+        s[f"2d loaded plate, 2 x 2 moving, {k}"] = plate(
+            [body("steel", [0.0, 0.0], [2.4, 1.8], [0.0, 0.0], ppc=[2, 2])], steel, 3e-3, t, f,
+            True)
+        if f == "dcu":  # crossing 2.5 cells along x
+            s[f"2d rigid diagonal translation, 2 x 2, {k}"] = plate(
+                [body("steel", [0.24, 0.24], [1.2, 1.2], [300.0, 200.0], ppc=[2, 2])], steel,
+                1e-3, t, f, True, boundaries=free)
         s[f"2d rigid diagonal translation, {k}"] = plate(
             [body("steel", [0.24, 0.24], [1.2, 1.2], [300.0, 200.0])], steel, 2.5e-3, t, f, True,
             boundaries=free)

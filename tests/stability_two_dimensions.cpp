@@ -493,3 +493,19 @@ BOOST_AUTO_TEST_CASE(layouts_with_equal_mass_moments_have_equal_limits) {
     }
   }
 }
+
+// A search at three significant digits whose first candidate, rounded down, fails below the last
+// passing scan point (the solver's lattice corners search so): the scan steps back instead of
+// asking for a refinement of an empty bracket, and the answer is the full search's, rounded down.
+BOOST_AUTO_TEST_CASE(a_candidate_rounded_below_the_scan_point_steps_the_scan_back) {
+  const OneStepMap map =
+      build_one_step_map(points({0.0625, 0.4375, 0.625, 0.5}), elastic(0.3, dcu, euler));
+  SearchOptions coarse = default_search_options(Criterion::l2);
+  coarse.courant_tolerance = 1e-4;
+  coarse.significant_digits = 3;
+  const double full =
+      admissible_courant(map, Criterion::l2, default_search_options(Criterion::l2)).courant;
+  const double rounded = admissible_courant(map, Criterion::l2, coarse).courant;
+  BOOST_TEST(rounded <= full);
+  BOOST_TEST(rounded >= full - 1.5e-3);
+}
