@@ -67,6 +67,10 @@ def main():
     if "y" not in first:
         plot_1d(a.directory, listed, a.output)
         return
+    if a.field not in first:
+        fields = [k for k in first if k not in ("x", "y")]
+        sys.exit(f"{a.directory}: --field {a.field}: no such column in {listed[0][1]}; "
+                 f"fields: {', '.join(fields)}")
     pick = listed if len(listed) <= 4 else [listed[(len(listed) - 1) * k // 3] for k in range(4)]
     here = os.path.dirname(os.path.abspath(__file__))
     script = os.path.join(here, "..", "reports", "plot_fields_2d.py")

@@ -8,7 +8,7 @@ apt-get update -qq
 apt-get install -y -qq --no-install-recommends \
   g++ cmake make pkg-config \
   libeigen3-dev libarpack2-dev libgsl-dev libboost-test-dev \
-  nlohmann-json3-dev libcli11-dev libopenmpi-dev openmpi-bin \
+  nlohmann-json3-dev libcli11-dev libopenmpi-dev openmpi-bin zlib1g-dev \
   python3 python3-matplotlib python3-numpy >/dev/null
 if [ "${1:-}" = --tests ]; then
   apt-get install -y -qq --no-install-recommends python3-vtk9 \

@@ -104,7 +104,7 @@ void write_atomically(const std::string& path, const std::function<void(std::ost
   const int slot = register_pending(tmp);
   std::error_code ec;
   try {
-    std::ofstream out(tmp);
+    std::ofstream out(tmp, std::ios::binary);  // binary VTU writes raw bytes
     errno = 0;
     if (!out) throw std::runtime_error("cannot write " + tmp + reason());
     out.precision(17);

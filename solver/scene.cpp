@@ -252,7 +252,7 @@ class Parser {
       }
     }
     s.output.times = {s.time.end};
-    s.output.vtu = s.dimension > 1;
+    s.output.vtu = s.output.vtu_binary = s.dimension > 1;
     if (const json* o = find(doc, "output")) parse_output(*o, s);
     check_double_range(s, doc);
     return s;
@@ -1019,8 +1019,11 @@ class Parser {
   }
 
   void parse_output(const json& o, Scene& s) const {
-    check_object(o, "output", {"directory", "times", "formats", "land"});
+    check_object(o, "output", {"directory", "times", "formats", "land", "vtu_encoding"});
     if (const json* l = find(o, "land")) s.output.land = boolean(*l, "output.land");
+    if (const json* e = find(o, "vtu_encoding"))
+      s.output.vtu_binary =
+          choice<int>(*e, "output.vtu_encoding", {{"binary", 1}, {"ascii", 0}}) == 1;
     if (const json* f = find(o, "formats")) {
       const std::string allowed = "an array of one or both of \"csv\", \"vtu\"";
       array(*f, "output.formats", allowed);

@@ -92,6 +92,7 @@ struct OutputSpec {
   std::vector<double> times;  // particle fields written at these times (sorted)
   bool csv = true;            // particles_NNN.csv
   bool vtu = false;           // particles_NNN.vtu and particles.pvd (default in 2D)
+  bool vtu_binary = false;    // raw appended arrays (default in 2D), else ASCII
   // Steps land on output times (shortened to reach them exactly), or the step sequence is left
   // unchanged and each output is written at the step nearest its time.
   bool land = true;

@@ -560,8 +560,9 @@ void Simulation<Physics>::write_vtu(std::size_t k, const std::string& directory,
   const auto& p = problem_.particles;
   const Field s = physical_state();
   const auto ex = problem_.exact ? std::optional(exact_state(time_)) : std::nullopt;
+  const vtk::VtuOptions options{scene_.output.vtu_binary, time_};
   if (!halo_) {
-    vtk::write_particles<Physics>(directory + "/" + name, p, problem_.materials, s, ex);
+    vtk::write_particles<Physics>(directory + "/" + name, p, problem_.materials, s, ex, options);
     return;
   }
   std::vector<int> owned(owned_particles());
@@ -569,7 +570,7 @@ void Simulation<Physics>::write_vtu(std::size_t k, const std::string& directory,
   const ParticleSet piece = p.select(owned);
   const auto data = vtk::point_data<Physics>(piece, problem_.materials, s, ex);
   Communicator& comm = halo_->comm();
-  vtk::write_points(directory + "/" + piece_file(k, comm.rank()), piece.position, data);
+  vtk::write_points(directory + "/" + piece_file(k, comm.rank()), piece.position, data, options);
   comm.barrier();  // every piece complete before the index names it
   if (!root()) return;
   std::vector<std::string> pieces;

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -24,13 +25,24 @@ struct PointData {
   std::vector<double> values;
 };
 
+// How a .vtu is written: arrays as raw little-endian bytes appended after the XML (8 bytes a
+// value, against about 24 as text), or as ASCII; the data set's time in its FieldData
+// (TimeValue), so a file opened on its own still knows it.
+struct VtuOptions {
+  bool binary = true;
+  std::optional<double> time;
+};
+
 // Writes particles at `positions` (Dim rows; missing coordinates 0) with the given point data.
 void write_points(const std::string& path, const Eigen::MatrixXd& positions,
-                  const std::vector<PointData>& data);
+                  const std::vector<PointData>& data, const VtuOptions& options = {});
 
 // The fields of a physics, from the particles' physical states (sigma, v) and, when given, the
 // exact solution's: 1D stress, velocity; 2D sigma_xx, sigma_yy, sigma_xy, sigma_zz, von_mises,
-// velocity (3 components); mass, volume, id and material in both.
+// velocity (3 components); the stress as a 3 x 3 tensor ("stress_tensor", row by row, for
+// ParaView's tensor filters); mass, volume, size (the side of the particle's volume,
+// volume^(1/dim): cell-sized glyphs), id and material in both; the physics' internal variables
+// and derived outputs.
 template <class Physics, class ParticleSet, class Field>
 std::vector<PointData> point_data(const ParticleSet& particles,
                                   const std::vector<typename Physics::Material>& materials,
@@ -40,9 +52,10 @@ std::vector<PointData> point_data(const ParticleSet& particles,
 template <class Physics, class ParticleSet, class Field>
 void write_particles(const std::string& path, const ParticleSet& particles,
                      const std::vector<typename Physics::Material>& materials,
-                     const Field& physical, const std::optional<Field>& exact) {
-  write_points(path, particles.position,
-               point_data<Physics>(particles, materials, physical, exact));
+                     const Field& physical, const std::optional<Field>& exact,
+                     const VtuOptions& options = {}) {
+  write_points(path, particles.position, point_data<Physics>(particles, materials, physical, exact),
+               options);
 }
 
 // A .pvtu: the pieces (.vtu file names relative to it, one per rank of a distributed run, each
@@ -77,9 +90,13 @@ std::vector<PointData> point_data(const ParticleSet& particles,
                                   const Field& physical, const std::optional<Field>& exact) {
   std::vector<PointData> data;
   const auto fields = [&](const Eigen::MatrixXd& s, const std::string& prefix) {
+    PointData tensor{prefix + "stress_tensor", 9, {}};
     if constexpr (Physics::dim == 1) {
       data.push_back(detail::row(prefix + "stress", s, 0));
       data.push_back(detail::row(prefix + "velocity", s, 1));
+      for (Eigen::Index i = 0; i < s.cols(); ++i)
+        for (int k = 0; k < 9; ++k) tensor.values.push_back(k == 0 ? s(0, i) : 0.0);
+      data.push_back(std::move(tensor));
     } else {
       data.push_back(detail::row(prefix + "sigma_xx", s, PlaneStrain::sxx));
       data.push_back(detail::row(prefix + "sigma_yy", s, PlaneStrain::syy));
@@ -95,21 +112,29 @@ std::vector<PointData> point_data(const ParticleSet& particles,
             std::sqrt(0.5 * ((xx - yy) * (xx - yy) + (yy - z) * (yy - z) + (z - xx) * (z - xx)) +
                       3.0 * xy * xy));
       }
+      for (Eigen::Index i = 0; i < s.cols(); ++i) {
+        const double xx = s(PlaneStrain::sxx, i), yy = s(PlaneStrain::syy, i);
+        const double xy = s(PlaneStrain::sxy, i), z = zz.values[static_cast<std::size_t>(i)];
+        for (double v : {xx, xy, 0.0, xy, yy, 0.0, 0.0, 0.0, z}) tensor.values.push_back(v);
+      }
       data.push_back(zz);
       data.push_back(vm);
       data.push_back(detail::vector3(prefix + "velocity", s, PlaneStrain::vx, 2));
+      data.push_back(std::move(tensor));
     }
   };
   fields(physical, "");
   if (exact) fields(*exact, "exact_");
-  PointData mass{"mass", 1, {}}, volume{"volume", 1, {}}, id{"id", 1, {}}, mat{"material", 1, {}};
+  PointData mass{"mass", 1, {}}, volume{"volume", 1, {}}, size{"size", 1, {}}, id{"id", 1, {}},
+      mat{"material", 1, {}};
   for (int i = 0; i < particles.size(); ++i) {
     mass.values.push_back(particles.mass[i]);
     volume.values.push_back(particles.volume[i]);
+    size.values.push_back(std::pow(particles.volume[i], 1.0 / Physics::dim));
     id.values.push_back(particles.id[i]);
     mat.values.push_back(particles.material[i]);
   }
-  for (auto* d : {&mass, &volume, &id, &mat}) data.push_back(std::move(*d));
+  for (auto* d : {&mass, &volume, &size, &id, &mat}) data.push_back(std::move(*d));
   for (int k = 0; k < ParticleSet::n_internal; ++k)  // the physics' internal variables
     data.push_back(detail::row(Physics::internal_names[k], particles.internal, k));
   if constexpr (physics::DerivedOutputs<Physics>) {  // and its derived outputs not written above

@@ -1,12 +1,17 @@
 #!/usr/bin/env python3
 """Reads a 2D run's VTK output back with Debian's VTK (python3-vtk9), not with dgmpm's code:
-runs DGMPM_BINARY on the plate scene into a fresh folder, opens particles.pvd's data sets with
-vtkXMLUnstructuredGridReader and checks that every .vtu holds the particles and fields of the
-matching CSV, the time series is in order, and sigma_zz and von Mises are consistent.
+runs DGMPM_BINARY on the plate scene twice into fresh folders, with binary VTU (the 2D default:
+raw arrays appended after the XML) and with "output.vtu_encoding": "ascii", opens particles.pvd's
+data sets with vtkXMLUnstructuredGridReader and checks that every .vtu holds the particles and
+fields of the matching CSV, its TimeValue is the .pvd's time, the time series is in order,
+sigma_zz, von Mises, the stress tensor and the size are consistent, the two encodings hold the
+same values (to the bit: text is written with 17 digits) and the binary files are at least three
+times smaller; examples/plot_run.py draws a field of the run and refuses an absent one.
 
     python3 tests/vtk_reader.py build/bin/dgmpm scenes/plate_impact.json
 """
 import csv
+import json
 import math
 import os
 import subprocess
@@ -14,10 +19,13 @@ import sys
 import tempfile
 import xml.etree.ElementTree as ET
 
+import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 failures = []
+NAMES = ["sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz", "von_mises", "velocity",
+         "stress_tensor", "mass", "volume", "size", "id", "material"]
 
 
 def check(ok, what):
@@ -26,39 +34,61 @@ def check(ok, what):
         print("FAIL:", what)
 
 
-def main():
-    binary, scene = sys.argv[1], sys.argv[2]
-    out = tempfile.mkdtemp(prefix="dgmpm_vtk_")
-    subprocess.run([binary, "run", scene, "--out", out], check=True, capture_output=True)
+def run(binary, scene, encoding):
+    """Runs the scene with the given VTU encoding; returns the output folder."""
+    out = tempfile.mkdtemp(prefix=f"dgmpm_vtk_{encoding}_")
+    with open(scene) as f:
+        doc = json.load(f)
+    doc.setdefault("output", {})["vtu_encoding"] = encoding
+    path = os.path.join(out, "scene.json")
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    subprocess.run([binary, "run", path, "--out", os.path.join(out, "run")], check=True,
+                   capture_output=True)
+    return os.path.join(out, "run")
+
+
+def read(out):
+    """Reads every data set of particles.pvd: [(time, path, points, arrays, TimeValue)]."""
     pvd = ET.parse(os.path.join(out, "particles.pvd")).getroot()
     sets = pvd.find("Collection").findall("DataSet")
-    check(len(sets) >= 2, f"{len(sets)} data sets in particles.pvd")
-    times = [float(s.get("timestep")) for s in sets]
-    check(times == sorted(times) and len(set(times)) == len(times), f"times in order: {times}")
-    nu = 0.3
-    for k, s in enumerate(sets):
+    result = []
+    for s in sets:
         path = os.path.join(out, s.get("file"))
         reader = vtk.vtkXMLUnstructuredGridReader()
         reader.SetFileName(path)
         reader.Update()
         grid = reader.GetOutput()
-        n = grid.GetNumberOfPoints()
-        with open(os.path.join(out, f"particles_{k:03d}.csv")) as f:
-            rows = list(csv.DictReader(f))
-        check(n == len(rows) == 825, f"{path}: {n} points, {len(rows)} CSV rows")
-        check(grid.GetNumberOfCells() == n, f"{path}: one vertex cell per particle")
-        points = vtk_to_numpy(grid.GetPoints().GetData())
+        check(grid.GetNumberOfCells() == grid.GetNumberOfPoints(),
+              f"{path}: one vertex cell per particle")
         data = grid.GetPointData()
         names = [data.GetArrayName(i) for i in range(data.GetNumberOfArrays())]
-        for name in ["sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz", "von_mises", "velocity",
-                     "mass", "volume", "id", "material"]:
+        for name in NAMES:
             check(name in names, f"{path}: array {name}")
-        arr = {name: vtk_to_numpy(data.GetArray(name)) for name in names}
+        arrays = {name: vtk_to_numpy(data.GetArray(name)) for name in names}
+        field = grid.GetFieldData().GetArray("TimeValue")
+        time_value = field.GetValue(0) if field is not None else None
+        result.append((float(s.get("timestep")), path,
+                       vtk_to_numpy(grid.GetPoints().GetData()), arrays, time_value))
+    return result
+
+
+def check_against_csv(out, sets, nu=0.3):
+    times = [t for t, *_ in sets]
+    check(len(sets) >= 2, f"{len(sets)} data sets in particles.pvd")
+    check(times == sorted(times) and len(set(times)) == len(times), f"times in order: {times}")
+    for k, (t, path, points, arr, time_value) in enumerate(sets):
+        check(time_value == t, f"{path}: TimeValue {time_value}, .pvd time {t}")
+        n = len(points)
+        with open(os.path.join(out, f"particles_{k:03d}.csv")) as f:
+            rows = list(csv.DictReader(row for row in f if not row.startswith("#")))
+        check(n == len(rows) == 825, f"{path}: {n} points, {len(rows)} CSV rows")
         check(arr["velocity"].shape == (n, 3), f"{path}: velocity has 3 components")
+        check(arr["stress_tensor"].shape == (n, 9), f"{path}: the stress tensor has 9 components")
         worst = 0.0
+        scale = 2e8
         for i, r in enumerate(rows):
             check(int(arr["id"][i]) == int(r["id"]), f"{path}: particle {i} id")
-            scale = 2e8
             worst = max(worst, abs(points[i][0] - float(r["x"])), abs(points[i][1] - float(r["y"])),
                         points[i][2] != 0.0)
             for name in ["sigma_xx", "sigma_yy", "sigma_xy"]:
@@ -71,10 +101,46 @@ def main():
             vm = math.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2)
                            + 3 * sxy * sxy)
             worst = max(worst, abs(arr["von_mises"][i] - vm) / scale)
+            tensor = [sxx, sxy, 0.0, sxy, syy, 0.0, 0.0, 0.0, szz]
+            worst = max(worst, max(abs(a - b) for a, b in zip(arr["stress_tensor"][i], tensor))
+                        / scale)
+            worst = max(worst, abs(arr["size"][i] - math.sqrt(arr["volume"][i])))
         check(worst < 1e-12, f"{path}: VTK and CSV differ by {worst}")
         if k == len(sets) - 1:
             check(arr["sigma_xx"].min() < -1e8, f"{path}: the load's compression is there")
-    print(f"{len(sets)} data sets read with VTK {vtk.vtkVersion.GetVTKVersion()}")
+
+
+def main():
+    binary, scene = sys.argv[1], sys.argv[2]
+    outs = {e: run(binary, scene, e) for e in ("binary", "ascii")}
+    sets = {e: read(out) for e, out in outs.items()}
+    for e in outs:
+        check_against_csv(outs[e], sets[e])
+    check(len(sets["binary"]) == len(sets["ascii"]), "as many data sets in both encodings")
+    for b, a in zip(sets["binary"], sets["ascii"]):
+        check(np.array_equal(b[2], a[2]), f"{b[1]}: points as in the ASCII file")
+        for name in NAMES:
+            check(np.array_equal(b[3][name], a[3][name]), f"{b[1]}: {name} as in the ASCII file")
+    with open(sets["binary"][-1][1], "rb") as f:
+        check(b'format="appended"' in f.read(), "the default 2D VTU is binary")
+    size = {e: sum(os.path.getsize(p) for _, p, *_ in sets[e]) for e in outs}
+    n = len(sets["binary"][-1][2])
+    print(f"{len(sets['binary'])} data sets per encoding read with VTK "
+          f"{vtk.vtkVersion.GetVTKVersion()}; bytes per particle per output: binary "
+          f"{size['binary'] / n / len(sets['binary']):.0f}, ASCII "
+          f"{size['ascii'] / n / len(sets['ascii']):.0f}")
+    check(3 * size["binary"] <= size["ascii"], f"binary {size['binary']} B, ASCII {size['ascii']} B")
+    # examples/plot_run.py on the same run: a field the CSV has is drawn, an absent one refused
+    # with the list of fields (it was a traceback).
+    plot = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "plot_run.py")
+    png = os.path.join(outs["binary"], "plot.png")
+    r = subprocess.run([sys.executable, plot, outs["binary"], "--field", "sigma_yy", "-o", png],
+                       capture_output=True, text=True)
+    check(r.returncode == 0 and os.path.getsize(png) > 0, f"plot_run.py sigma_yy: {r.stderr}")
+    r = subprocess.run([sys.executable, plot, outs["binary"], "--field", "plastic_strain", "-o",
+                        png], capture_output=True, text=True)
+    check(r.returncode != 0 and "no such column" in r.stderr and "sigma_xx" in r.stderr
+          and "Traceback" not in r.stderr, f"plot_run.py on an absent field: {r.stderr}")
     print(f"{0 if failures else 1} passed, {len(failures)} failed")
     sys.exit(1 if failures else 0)
 
