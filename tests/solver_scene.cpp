@@ -196,6 +196,8 @@ BOOST_AUTO_TEST_CASE(defaults) {
   BOOST_TEST(!s.exact.has_value());
   BOOST_TEST(s.output.directory.empty());
   BOOST_TEST(s.output.times == std::vector<double>{1.0});
+  BOOST_TEST(!s.output.vtu);  // 1D: CSV only, text VTU when asked for
+  BOOST_TEST(!s.output.vtu_binary);
 
   // Seeds: 4 cells of 0.5 from 1.0, the box [1, 3) covers all of them.
   const auto seeds = body_seeds(s, 0);
@@ -263,6 +265,9 @@ BOOST_AUTO_TEST_CASE(refuses_unknown_keys) {
   doc = base();
   doc["output"]["format"] = "csv";
   check_refused(doc, {"output.format: unknown key", "directory, times"});
+  doc = base();
+  doc["output"]["vtu_encoding"] = "gzip";
+  check_refused(doc, {"output.vtu_encoding: value \"gzip\"", "one of binary, ascii"});
 }
 
 BOOST_AUTO_TEST_CASE(refuses_missing_keys) {
