@@ -12,7 +12,9 @@ void add_report_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "report", "Run the accuracy, convergence, stability and stiff-case studies; write CSV, "
                 "PNG plots and report.md");
-  cmd->add_flag("--quick", options->quick, "Coarse grids and maps (about 10 s in Release)");
+  cmd->add_flag(
+      "--quick", options->quick,
+      "Coarse grids and maps (about 35 s on 2 cores in Release; the full report about 6 min)");
   cmd->add_option("--out", options->out, "Output directory")->capture_default_str();
   cmd->callback([options] {
     try {

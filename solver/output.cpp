@@ -123,59 +123,6 @@ void write_atomically(const std::string& path, const std::function<void(std::ost
   unregister_pending(slot);
 }
 
-StreamedFile::StreamedFile(const std::string& path)
-    : path_(path), temporary_(temporary_name(path)), stream_(temporary_) {
-  if (!stream_) throw std::runtime_error("cannot write " + temporary_ + reason());
-  slot_ = register_pending(temporary_);
-  stream_.precision(17);
-}
-
-StreamedFile::StreamedFile(StreamedFile&& o) noexcept
-    : path_(std::move(o.path_)), temporary_(std::move(o.temporary_)), stream_(std::move(o.stream_)),
-      slot_(std::exchange(o.slot_, -1)) {}
-
-StreamedFile& StreamedFile::operator=(StreamedFile&& o) noexcept {
-  if (this != &o) {
-    discard();
-    path_ = std::move(o.path_);
-    temporary_ = std::move(o.temporary_);
-    stream_ = std::move(o.stream_);
-    slot_ = std::exchange(o.slot_, -1);
-  }
-  return *this;
-}
-
-void StreamedFile::close() {
-  if (!stream_.is_open()) return;
-  errno = 0;
-  stream_.close();
-  std::error_code ec;
-  if (!stream_) {
-    const std::string why = reason();
-    discard();
-    throw std::runtime_error("error while writing " + temporary_ + why);
-  }
-  fs::rename(temporary_, path_, ec);
-  if (ec) {
-    discard();
-    throw std::runtime_error("cannot rename " + temporary_ + " to " + path_ + ": " + ec.message());
-  }
-  unregister_pending(std::exchange(slot_, -1));
-}
-
-void StreamedFile::discard() {
-  if (stream_.is_open()) stream_.close();
-  if (slot_ >= 0) {
-    std::error_code ec;
-    fs::remove(temporary_, ec);
-    unregister_pending(std::exchange(slot_, -1));
-  }
-}
-
-StreamedFile::~StreamedFile() {
-  discard();
-}
-
 DirectoryClaim::DirectoryClaim(const std::string& directory, const std::string& scene,
                                const std::vector<std::string>& files, bool overwrite, bool resume)
     : directory_(directory), scene_path_(fs::absolute(scene).lexically_normal().string()) {

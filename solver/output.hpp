@@ -16,25 +16,6 @@ namespace dgmpm::output {
 // std::runtime_error naming the path when the file cannot be written.
 void write_atomically(const std::string& path, const std::function<void(std::ostream&)>& fill);
 
-// A file written progressively (a history); renamed to its name by close().
-class StreamedFile {
- public:
-  StreamedFile() = default;
-  explicit StreamedFile(const std::string& path);
-  StreamedFile(StreamedFile&&) noexcept;
-  StreamedFile& operator=(StreamedFile&&) noexcept;
-  ~StreamedFile();  // an unfinished file is removed, never left under its final name
-  bool is_open() const { return stream_.is_open(); }
-  std::ostream& stream() { return stream_; }
-  void close();
-
- private:
-  void discard();  // closes and removes the temporary file
-  std::string path_, temporary_;
-  std::ofstream stream_;
-  int slot_ = -1;  // registered for removal on SIGINT / SIGTERM
-};
-
 // 64-bit FNV-1a, fed incrementally (checkpoints and the histories they record).
 struct Fnv1a {
   std::uint64_t value = 14695981039346656037ull;
@@ -44,9 +25,10 @@ struct Fnv1a {
   }
 };
 
-// A history written by a run that takes checkpoints: rows are kept in memory and appended to the
-// file at each checkpoint (commit), so the file holds complete rows up to the last checkpoint,
-// whose length and hash the checkpoint records; a restart cuts the file back to that length.
+// A history written as a run goes, under its own name: rows are kept in memory and appended to
+// the file whole at each commit (outputs, checkpoints, every few seconds), so a killed run leaves
+// complete rows up to its last commit. A checkpoint records the file's length and hash; a restart
+// cuts the file back to that length.
 class CommittedFile {
  public:
   void create(const std::string& path);  // a new, empty file

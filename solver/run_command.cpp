@@ -35,7 +35,8 @@ struct RunArguments {
   std::string checkpoint_every;  // N (steps) or Ts (simulated seconds)
   int checkpoint_keep = 0;
   std::string restart;
-  int threads = 0;  // 0: OpenMP's default (OMP_NUM_THREADS, else the cores)
+  int threads = 0;             // 0: OpenMP's default (OMP_NUM_THREADS, else the cores)
+  double progress_every = 10;  // batch progress lines (0: none)
 };
 
 // "--checkpoint-every": N steps, or T simulated seconds written "Ts" (e.g. 2e-4s).
@@ -163,7 +164,8 @@ int run(const RunArguments& args) {
     SimulationBase& sim = *owned;
     if (!args.restart.empty()) sim.restore(args.restart);
     if (!args.out.empty()) options.output_directory = args.out;
-    options.progress = true;
+    options.progress = args.progress_every > 0;
+    options.progress_every = args.progress_every;
     options.overwrite = args.overwrite;
     options.stop = &stop_requested;
     if (root)
@@ -227,6 +229,10 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--checkpoint-keep", args->checkpoint_keep,
                   "Keep only the newest K checkpoints (default: all)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--progress-every", args->progress_every,
+                  "When stderr is not a terminal (a batch job's log), a progress line every S "
+                  "seconds (default 10; 0: none, on a terminal too)")
+      ->check(CLI::NonNegativeNumber);
   add_threads_option(*cmd, args->threads);
   cmd->add_option("--restart", args->restart,
                   "Continue from a checkpoint (the scene defaults to the one that wrote it)")

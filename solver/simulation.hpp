@@ -58,6 +58,7 @@ struct RunSummary {
 struct RunOptions {
   std::optional<std::string> output_directory;  // overrides the scene's
   bool progress = false;                        // progress line on stderr
+  double progress_every = 10;  // seconds between progress lines when stderr is not a terminal
   bool overwrite =
       false;  // replace another scene's outputs in the directory (output::DirectoryClaim)
   // Checkpoints, written into the output directory as checkpoint_<step>.ckpt: every
@@ -216,6 +217,7 @@ class Simulation final : public SimulationBase {
   std::string vtu_file(std::size_t k) const;
   void claim_directory(RunRecord& record, bool resumed);
   void open_history(RunRecord& record, bool resumed);
+  void commit_history(RunRecord& record) const;
   void write_history(std::ostream* out, double dt, const Energy& e) const;
   double expected_steps() const;
   void write_output(RunRecord& record);

@@ -579,20 +579,21 @@ void Simulation<Physics>::write_vtu(std::size_t k, const std::string& directory,
 }
 
 // What one call of run() writes and where: the output directory's claim, the files planned, the
-// energy history (streamed under a temporary name, or, with checkpoints, committed at each one
-// so that the file always matches the last checkpoint).
+// energy history (written under its own name as the run goes, whole rows at a time: at every
+// output and checkpoint and every few seconds, so that a killed run leaves its history to the
+// last of them; a restart cuts it back to its checkpoint's rows).
 template <class Physics>
 struct Simulation<Physics>::RunRecord {
   RunRecord(const RunOptions& run_options, std::string output_directory)
       : options(run_options), directory(std::move(output_directory)) {}
   const RunOptions& options;
   std::string directory;
-  bool writes = false, checkpoints = false, commits = false;
+  bool writes = false, checkpoints = false;
   std::optional<output::DirectoryClaim> claim;
   std::vector<std::string> planned;
-  output::StreamedFile streamed;
   output::CommittedFile committed;
   std::ostream* history = nullptr;  // rank 0's energy history, if written
+  std::chrono::steady_clock::time_point last_commit = std::chrono::steady_clock::now();
   double next_checkpoint_time = std::numeric_limits<double>::infinity();
 };
 
@@ -662,27 +663,29 @@ void Simulation<Physics>::open_history(RunRecord& record, bool resumed) {
   if (!record.writes) return;
   const std::string path = record.directory + "/energy.csv";
   Progress& done = progress_;
-  if (record.commits) {
-    const bool initial_row = !resumed || steps_ == 0;
-    const Energy e = initial_row ? energy_parts() : Energy{};
-    if (root() &&
-        (!resumed || !record.committed.resume(path, done.history_bytes, done.history_hash))) {
-      if (resumed)
-        warnings_.push_back(path + " does not hold the energy history the checkpoint " +
-                            "recorded: it restarts at step " + std::to_string(steps_));
-      record.committed.create(path);
-      record.committed.stream() << detail::history_header(dissipative);
-      if (initial_row) write_history(&record.committed.stream(), 0.0, e);
-    }
-    if (root()) record.history = &record.committed.stream();
-  } else {
-    if (root()) {
-      record.streamed = output::StreamedFile(path);
-      record.streamed.stream() << detail::history_header(dissipative);
-      record.history = &record.streamed.stream();
-    }
-    write_history(record.history, 0.0, energy_parts());
+  const bool initial_row = !resumed || steps_ == 0;
+  const Energy e = initial_row ? energy_parts() : Energy{};  // collective
+  if (root() &&
+      (!resumed || !record.committed.resume(path, done.history_bytes, done.history_hash))) {
+    if (resumed)
+      warnings_.push_back(path + " does not hold the energy history the checkpoint " +
+                          "recorded: it restarts at step " + std::to_string(steps_));
+    record.committed.create(path);
+    record.committed.stream() << detail::history_header(dissipative);
+    if (initial_row) write_history(&record.committed.stream(), 0.0, e);
   }
+  if (root()) {
+    record.history = &record.committed.stream();
+    commit_history(record);
+  }
+}
+
+// Appends the history's rows written since the last commit to energy.csv (rank 0).
+template <class Physics>
+void Simulation<Physics>::commit_history(RunRecord& record) const {
+  if (!record.history) return;
+  record.committed.commit();
+  record.last_commit = std::chrono::steady_clock::now();
 }
 
 template <class Physics>
@@ -732,6 +735,7 @@ void Simulation<Physics>::write_output(RunRecord& record) {
   done.index_rows.push_back(row.str());
   ++done.outputs;
   write_index(record);
+  if (root()) commit_history(record);
 }
 
 // Output k is due once the run reaches its time (landing) or its nearest step (not landing).
@@ -756,7 +760,7 @@ template <class Physics>
 void Simulation<Physics>::take_checkpoint(RunRecord& record) {
   Progress& done = progress_;
   if (root()) {
-    record.committed.commit();
+    commit_history(record);
     done.history_bytes = record.committed.bytes();
     done.history_hash = record.committed.hash();
   }
@@ -842,7 +846,6 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   RunRecord record{options, options.output_directory.value_or(scene_.output.directory)};
   record.writes = !record.directory.empty();
   record.checkpoints = options.checkpoint_steps > 0 || options.checkpoint_seconds > 0;
-  record.commits = record.checkpoints || resumed;
   if (record.checkpoints && !record.writes)
     throw scene::SceneError(scene_.source +
                             ": checkpoints need an output directory (output.directory or --out)");
@@ -860,11 +863,11 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
     stopped = time_loop(record, progress);
     if (!stopped && scene_.time.blow_up_check) check_growth();  // runs shorter than its interval
   } catch (const std::exception& e) {
-    if (terminal) std::fprintf(stderr, "\r%78s\r", "");
+    if (terminal) std::fprintf(stderr, "\r%100s\r", "");
     record_failure(record, seconds(), e.what());
     throw;
   }
-  if (terminal) std::fprintf(stderr, "\r%78s\r", "");
+  if (terminal) std::fprintf(stderr, "\r%100s\r", "");
   RunSummary summary = summarise();
   if (stopped) {
     std::ostringstream reason;
@@ -882,15 +885,21 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
 
 // The steps to the end time with the outputs and checkpoints due on the way; returns 0 there, or
 // the signal that asked the run to stop (after a whole step, every rank at the same one).
-// `progress`: a line on stderr, rewritten twice a second on a terminal, a new line every 10 s
-// otherwise (a batch job's log), from 2 s (10 s) into the loop.
+// `progress`: a line on stderr, rewritten twice a second on a terminal, a new line every
+// options.progress_every seconds otherwise (a batch job's log), from 2 s (progress_every) into the
+// loop: step, time, dt, the energy balance and the time left at the recent pace (simulated time per
+// wall second over the last report interval, which follows a step that changes, as the run's
+// average would not).
 template <class Physics>
 int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
   const bool terminal = progress && ::isatty(STDERR_FILENO);
-  const double first = terminal ? 2.0 : 10.0;
-  const auto every = terminal ? std::chrono::milliseconds(500) : std::chrono::milliseconds(10000);
+  const double first = terminal ? 2.0 : record.options.progress_every;
+  const auto every = terminal ? std::chrono::duration<double>(0.5)
+                              : std::chrono::duration<double>(record.options.progress_every);
   const auto start = std::chrono::steady_clock::now();
   auto last_report = start;
+  double last_report_time = time_;
+  Energy energy{};
   const double t_end = scene_.time.end;
   const auto& output_times = scene_.output.times;
   record.next_checkpoint_time = next_checkpoint_time(record);
@@ -914,17 +923,36 @@ int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
     // The range of the controlled step; steps shortened to land on a time are not counted.
     progress_.dt_min = std::min(progress_.dt_min, controlled);
     progress_.dt_max = std::max(progress_.dt_max, controlled);
-    if (record.writes) write_history(record.history, dt, energy_parts());
+    if (record.writes) {
+      energy = energy_parts();
+      write_history(record.history, dt, energy);
+      constexpr auto kCommitEvery = std::chrono::seconds(2);  // what a killed run loses at most
+      if (record.history && std::chrono::steady_clock::now() - record.last_commit > kCommitEvery)
+        commit_history(record);
+    }
     if (const int signal = stop_signal(record.options)) return signal;
     if (progress) {
       const auto now = std::chrono::steady_clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
       if (elapsed > first && now - last_report > every) {
+        const double window = std::chrono::duration<double>(now - last_report).count();
+        const double pace = (time_ - last_report_time) / window;  // simulated s per wall s
         last_report = now;
-        const double left = elapsed * (t_end - time_) / time_;
-        std::fprintf(stderr, "%sstep %ld  t = %.6g / %.6g  (%.1f%%)  about %.0f s left%s",
-                     terminal ? "\r" : "", steps_, time_, t_end, 100.0 * time_ / t_end, left,
-                     terminal ? "   " : "\n");
+        last_report_time = time_;
+        const double left = pace > 0 ? (t_end - time_) / pace : 0.0;
+        std::string balance;  // E - E0 - W over E0 + W, when the energy is computed
+        if (record.writes && !terminal) {
+          char text[64];
+          const double work = mpm_ ? mpm_->load_work() : work_;
+          std::snprintf(text, sizeof text, "  (E - E0 - W) / (E0 + W) %+.1e",
+                        (energy.total() - initial_energy_ - work) /
+                            std::max(initial_energy_ + work, 1e-300));
+          balance = text;
+        }
+        std::fprintf(stderr,
+                     "%sstep %ld  t = %.6g / %.6g  (%.1f%%)  dt %.3g%s  about %.0f s left%s",
+                     terminal ? "\r" : "", steps_, time_, t_end, 100.0 * time_ / t_end, dt,
+                     balance.c_str(), left, terminal ? "   " : "\n");
       }
     }
   }
@@ -1070,10 +1098,7 @@ void Simulation<Physics>::close_record(RunRecord& record, RunSummary& summary) {
   if (!done.index_rows.empty()) summary.files.push_back(directory + "/outputs.csv");
   if (scene_.output.vtu && !done.series.empty())
     summary.files.push_back(directory + "/particles.pvd");
-  if (record.commits)
-    record.committed.commit();
-  else
-    record.streamed.close();
+  commit_history(record);
   summary.files.push_back(directory + "/energy.csv");
   const std::string path = directory + "/summary.json";
   summary.files.push_back(path);

@@ -2,7 +2,8 @@
 stopped by SIGTERM both leave summary.json with their status and reason, the energy history up
 to where they stopped, and the outputs' index and ParaView series matching the particle files
 written. Exit codes: 1 for the failure (with --json, the summary still on stdout), 128 + 15 for
-SIGTERM."""
+SIGTERM. A run killed by SIGKILL leaves its energy history to its last commit; batch progress
+lines give dt, the energy balance and an estimate of the time left that a moving run bears out."""
 import csv
 import json
 import os
@@ -71,22 +72,85 @@ scene["output"] = {"directory": str(work / "interrupted"), "times": [1e-6, 2e-6,
 scene.pop("exact")
 path = work / "interrupted.json"
 path.write_text(json.dumps(scene))
-process = subprocess.Popen([binary, "run", str(path), "--overwrite", "--threads", "1"],
+PROGRESS = re.compile(r"step \d+  t = \S+ / \S+  \((\d+\.\d)%\)  dt \S+  \(E - E0 - W\) / \(E0 \+ W\) "
+                      r"\S+  about (\d+) s left\n")
+
+
+def progress_lines(process, count, timeout=60):
+    """The first `count` progress lines of a running process's stderr."""
+    lines, deadline = [], time.time() + timeout
+    while len(lines) < count and time.time() < deadline:
+        ready, _, _ = select.select([process.stderr], [], [], 1.0)
+        if ready:
+            line = process.stderr.readline()
+            if "s left" in line:
+                lines.append(line)
+    return lines
+
+
+process = subprocess.Popen([binary, "run", str(path), "--overwrite", "--threads", "1",
+                            "--progress-every", "1"],
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-deadline = time.time() + 60
-progress = ""
-while "s left" not in progress and time.time() < deadline:
-    ready, _, _ = select.select([process.stderr], [], [], 1.0)
-    if ready:
-        progress = process.stderr.readline()
-assert re.fullmatch(r"step \d+  t = \S+ / 1  \(\d+\.\d%\)  about \d+ s left\n", progress), progress
+progress = progress_lines(process, 3)
+assert len(progress) == 3 and all(PROGRESS.fullmatch(p) for p in progress), progress
 assert (work / "interrupted" / "particles_001.csv").exists()
+# The energy history is on disk under its own name while the run goes (every 2 s at most).
+with open(work / "interrupted" / "energy.csv") as f:
+    assert len(f.readlines()) > 2
 process.send_signal(signal.SIGTERM)
 stdout, stderr = process.communicate(timeout=60)
 assert process.returncode == 128 + signal.SIGTERM, (process.returncode, stderr)
 assert "interrupted:" in stderr and "SIGTERM" in stderr, stderr
 summary = check_record(work / "interrupted", "interrupted")
 assert "SIGTERM" in summary["reason"] and 0 < summary["final_time"] < 1.0, summary
+# SIGKILL leaves no chance to write anything: energy.csv holds the whole rows of its last commit
+# (every 2 s), from step 0 on, and no summary claims the run ended.
+path = work / "killed.json"
+scene["output"] = {"directory": str(work / "killed"), "times": [0.5]}
+path.write_text(json.dumps(scene))
+process = subprocess.Popen([binary, "run", str(path), "--overwrite", "--threads", "1",
+                            "--progress-every", "1"],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+assert len(progress_lines(process, 4)) == 4
+process.kill()
+process.communicate(timeout=60)
+with open(work / "killed" / "energy.csv") as f:
+    text = f.read()
+assert text.endswith("\n"), text[-200:]
+rows = list(csv.DictReader(text.splitlines()))
+assert len(rows) > 1 and [int(r["step"]) for r in rows] == list(range(len(rows))), len(rows)
+assert all(len(r) == len(rows[0]) and None not in r.values() for r in rows)
+assert not (work / "killed" / "summary.json").exists()
+killed_rows = len(rows)
+
+# The batch progress estimate follows the pace of a moving run whose step changes: once a tenth
+# of the run is done, within a factor 2 of the time actually left (where that is 2 s or more).
+scene = dict(base)
+scene["grid"] = dict(base["grid"], origin=[-0.2], cell_size=[0.0008], cells=[8000])
+scene["bodies"] = [dict(b, particles_per_cell=2) for b in base["bodies"]]
+scene["particles_move"] = True
+scene["time"] = dict(base["time"], end=4e-4, courant="auto", integrator="rk2")
+scene["output"] = {"directory": str(work / "estimate"), "times": []}
+scene.pop("exact")
+path = work / "estimate.json"
+path.write_text(json.dumps(scene))
+start = time.time()
+process = subprocess.Popen([binary, "run", str(path), "--overwrite", "--threads", "1",
+                            "--progress-every", "0.5"],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+said = [(time.time() - start, line) for line in process.stderr]
+process.wait()
+assert process.returncode == 0
+end = time.time() - start
+estimates = []
+for at, line in said:
+    m = PROGRESS.fullmatch(line)
+    if m and float(m.group(1)) >= 10 and end - at >= 2:
+        estimates.append((int(m.group(2)), end - at))
+assert estimates, said
+for estimate, actual in estimates:
+    assert 0.5 * actual <= estimate <= 2 * actual, (estimate, actual, said)
+
 # Checkpoint settings that would do nothing are not silent: a number to keep without checkpoints
 # is refused (exit 2), a checkpoint interval past the end time is warned about.
 scene = dict(base)
@@ -118,5 +182,6 @@ path.write_text(json.dumps(scene))
 touching = subprocess.run([binary, "run", str(path)], capture_output=True, text=True)
 assert touching.returncode == 0 and "does nothing" not in touching.stderr, touching.stderr
 
-print("run records: blow-up at step %d, SIGTERM at step %d" %
-      (printed["steps"], summary["steps"]))
+print("run records: blow-up at step %d, SIGTERM at step %d, SIGKILL after %d history rows, "
+      "%d progress estimates within a factor 2 of the time left" %
+      (printed["steps"], summary["steps"], killed_rows, len(estimates)))
