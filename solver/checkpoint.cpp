@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace dgmpm::checkpoint {
 
@@ -21,6 +23,18 @@ std::uint64_t get_u64(const std::string& s, std::size_t at) {
   std::uint64_t v = 0;
   for (int k = 7; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(s[at + k]);
   return v;
+}
+
+std::string format_number(double v) {  // the fewest digits that read back as v
+  std::string text;
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::ostringstream s;
+    s.precision(digits);
+    s << v;
+    text = s.str();
+    if (std::stod(text) == v) break;
+  }
+  return text;
 }
 
 scene::SceneError refused(const std::string& path, const std::string& why) {
@@ -95,15 +109,48 @@ void check_compatible(const std::string& path, const nlohmann::json& header,
                   "written by dgmpm " + version +
                       ", this is dgmpm " DGMPM_VERSION
                       " (a restart continues bit for bit only with the version that wrote it)");
-  const nlohmann::json recorded = header.value("scene", nlohmann::json());
+  nlohmann::json recorded = header.value("scene", nlohmann::json());
   const nlohmann::json current = scene_identity(scene);
   if (recorded == current) return;
+  // An extended run: a later time.end, and output times that keep those up to the checkpoint.
+  const double at = from_bits(header.value("time", std::uint64_t{0}));
+  const auto key_of = [](const nlohmann::json& doc, const char* object, const char* key) {
+    const auto o = doc.find(object);
+    return o != doc.end() && o->is_object() && o->contains(key) ? (*o)[key] : nlohmann::json();
+  };
+  const auto times = [&](const nlohmann::json& doc, double end) {
+    std::vector<double> kept;  // the output times up to the checkpoint (default: the end time)
+    const nlohmann::json t = key_of(doc, "output", "times");
+    for (const auto& x : t.is_array() ? t : nlohmann::json::array({end}))
+      if (x.is_number() && x.get<double>() <= at) kept.push_back(x.get<double>());
+    return kept;
+  };
+  const nlohmann::json old_end = key_of(recorded, "time", "end");
+  if (recorded.is_object() && old_end.is_number()) {
+    const double end = scene.time.end, before = old_end.get<double>();
+    if (end != before && !(end > at))
+      throw refused(path, "time.end: value " + format_number(end) +
+                              " is not after the "
+                              "checkpoint's time " +
+                              format_number(at) +
+                              "; allowed: a later end "
+                              "time, which extends the run");
+    if (times(recorded, before) == times(current, end)) {
+      recorded["time"]["end"] = current["time"]["end"];  // the rest must be the same
+      if (current.contains("output") && current["output"].contains("times"))
+        recorded["output"]["times"] = current["output"]["times"];
+      else if (recorded.contains("output") && recorded["output"].is_object())
+        recorded["output"].erase("times");
+      if (recorded == current) return;
+    }
+  }
   const nlohmann::json patch = nlohmann::json::diff(recorded, current);
   std::string key = patch.empty() ? std::string("/") : patch[0].value("path", std::string("/"));
   throw refused(path, "it was written by a run of another scene (" +
                           header.value("scene_source", std::string("?")) + "); " + scene.source +
                           " differs at " + key +
-                          " (a restart needs the same scene but for output.directory)");
+                          " (a restart needs the same scene but for output.directory, a later "
+                          "time.end and output times that keep those up to the checkpoint)");
 }
 
 void PayloadReader::bytes(void* data, std::size_t n) {

@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <omp.h>
@@ -163,7 +164,12 @@ int run(const RunArguments& args) {
     owned = make_simulation(scene, distributed ? run_ranks : nullptr);
     SimulationBase& sim = *owned;
     if (!args.restart.empty()) sim.restore(args.restart);
-    if (!args.out.empty()) options.output_directory = args.out;
+    if (!args.out.empty()) {
+      options.output_directory = args.out;
+    } else if (!args.restart.empty()) {  // a restart continues where its checkpoint is
+      const std::string here = std::filesystem::path(args.restart).parent_path().string();
+      options.output_directory = here.empty() ? "." : here;
+    }
     options.progress = args.progress_every > 0;
     options.progress_every = args.progress_every;
     options.overwrite = args.overwrite;

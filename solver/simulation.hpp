@@ -216,6 +216,7 @@ class Simulation final : public SimulationBase {
   std::vector<std::string> checkpoint_files(const std::string& name) const;
   std::string vtu_file(std::size_t k) const;
   void claim_directory(RunRecord& record, bool resumed);
+  int copy_earlier_outputs(const std::string& directory) const;
   void open_history(RunRecord& record, bool resumed);
   void commit_history(RunRecord& record) const;
   void write_history(std::ostream* out, double dt, const Energy& e) const;

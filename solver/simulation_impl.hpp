@@ -640,6 +640,16 @@ void Simulation<Physics>::claim_directory(RunRecord& record, bool resumed) {
     std::vector<std::string> listed = record.planned;
     for (const auto& c : progress_.checkpoints)
       for (const auto& f : checkpoint_files(c)) listed.push_back(f);
+    // A restart keeps the directory's later checkpoints of this run on its manifest (a later run
+    // there removes them with the rest).
+    std::error_code ec;
+    if (resumed)
+      for (const auto& e : std::filesystem::directory_iterator(record.directory, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind("checkpoint_", 0) == 0 && e.path().extension() == ".ckpt" &&
+            std::find(listed.begin(), listed.end(), name) == listed.end())
+          listed.push_back(name);
+      }
     record.claim.emplace(record.directory, scene_.source, listed, record.options.overwrite,
                          resumed);
   }
@@ -647,13 +657,51 @@ void Simulation<Physics>::claim_directory(RunRecord& record, bool resumed) {
   if (resumed) {
     std::error_code ec;
     const auto here = std::filesystem::weakly_canonical(record.directory, ec);
-    if (!record.writes || here != std::filesystem::weakly_canonical(restored_directory_, ec))
-      warnings_.push_back("restarted from " + restored_from_ + " into another directory: the " +
-                          std::to_string(progress_.outputs) +
+    if (!record.writes) {
+      warnings_.push_back("restarted from " + restored_from_ +
+                          " without an output directory: the " + std::to_string(progress_.outputs) +
                           " outputs written before the checkpoint and the energy history up to "
                           "it are in " +
                           restored_directory_);
+    } else if (here != std::filesystem::weakly_canonical(restored_directory_, ec)) {
+      // Into another directory: the earlier outputs and history are copied there, so that the
+      // index, the .pvd and the summary list files that exist.
+      int copied = 0;
+      if (root()) copied = copy_earlier_outputs(record.directory);
+      if (halo_) halo_->comm().barrier();
+      warnings_.push_back("restarted from " + restored_from_ +
+                          " into another directory: " + std::to_string(copied) + " files of the " +
+                          std::to_string(progress_.outputs) +
+                          " outputs before the checkpoint, and its energy history, copied from " +
+                          restored_directory_);
+    }
   }
+}
+
+// The files of the outputs written before the checkpoint (particles_NNN*, every rank's piece)
+// and the energy history, from the checkpoint's directory into `directory`; how many outputs'
+// files were copied.
+template <class Physics>
+int Simulation<Physics>::copy_earlier_outputs(const std::string& directory) const {
+  namespace fs = std::filesystem;
+  int copied = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(restored_directory_, ec)) {
+    const std::string name = e.path().filename().string();
+    bool earlier = name == "energy.csv";
+    for (std::size_t k = 0; !earlier && k < progress_.outputs; ++k) {
+      char stem[32];
+      std::snprintf(stem, sizeof stem, "particles_%03zu", k);
+      earlier = name.rfind(stem, 0) == 0;
+    }
+    if (!earlier) continue;
+    fs::copy_file(e.path(), fs::path(directory) / name, fs::copy_options::overwrite_existing, ec);
+    if (ec)
+      throw std::runtime_error("cannot copy " + e.path().string() + " into " + directory + ": " +
+                               ec.message());
+    copied += name != "energy.csv";
+  }
+  return copied;
 }
 
 // Opens the energy history, continuing a restart's committed file where it matches the
