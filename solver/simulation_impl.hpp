@@ -910,6 +910,9 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   try {
     stopped = time_loop(record, progress);
     if (!stopped && scene_.time.blow_up_check) check_growth();  // runs shorter than its interval
+    // An interrupted run with checkpoints on leaves one where it stopped, to go on from.
+    if (stopped && record.checkpoints && steps_ > progress_.checkpoint_step)
+      take_checkpoint(record);
   } catch (const std::exception& e) {
     if (terminal) std::fprintf(stderr, "\r%100s\r", "");
     record_failure(record, seconds(), e.what());

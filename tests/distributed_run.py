@@ -153,8 +153,50 @@ def blow_up(mpiexec, np, binary, scene):
           f"blow-up on {np} ranks: exit {split.returncode}, said {said}, serial {expected}")
 
 
+def interrupted(mpiexec, np, binary, scene):
+    """SIGTERM to mpirun: every rank stops at the same step and the run leaves its record
+    (summary with status interrupted, energy history to that step, the outputs' index) and, with
+    checkpoints on, a checkpoint (every rank's piece) where it stopped."""
+    import signal
+    import time
+    top = tempfile.mkdtemp(prefix="dgmpm_mpi_term_")
+    with open(scene) as f:
+        doc = json.load(f)
+    doc["time"]["end"] = 10.0
+    doc["time"]["max_steps"] = 100000000
+    doc["output"] = {"times": [1e-4, 5.0], "formats": ["csv"]}
+    path, out = os.path.join(top, "long.json"), os.path.join(top, "out")
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    process = subprocess.Popen([mpiexec, "-np", str(np), "--oversubscribe", binary, "run", path,
+                                "--out", out, "--checkpoint-every", "100000000"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    while not os.path.exists(os.path.join(out, "particles_000.csv")) and time.time() < deadline:
+        time.sleep(0.2)
+    time.sleep(1.0)
+    process.send_signal(signal.SIGTERM)
+    _, stderr = process.communicate(timeout=120)
+    summary_path = os.path.join(out, "summary.json")
+    check(os.path.exists(summary_path), f"SIGTERM on {np} ranks: no summary; {stderr[-500:]}")
+    if not os.path.exists(summary_path):
+        return
+    with open(summary_path) as f:
+        summary = json.load(f)
+    check(summary["status"] == "interrupted" and "SIGTERM" in summary["reason"],
+          f"SIGTERM on {np} ranks: {summary.get('status')} {summary.get('reason')}")
+    with open(os.path.join(out, "energy.csv")) as f:
+        rows = f.read().splitlines()[1:]
+    check(len(rows) == summary["steps"] + 1, f"energy rows {len(rows)}, steps {summary['steps']}")
+    final = "checkpoint_%09d" % summary["steps"]
+    pieces = [final + ".ckpt"] + [f"{final}_r{r}.ckpt" for r in range(1, np)]
+    check(all(os.path.exists(os.path.join(out, p)) for p in pieces),
+          f"final checkpoint pieces {pieces}: {sorted(os.listdir(out))}")
+
+
 def main():
     mpiexec, np, binary = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+    interrupted(mpiexec, np, binary, sys.argv[4])
     for scene in sys.argv[4:]:
         compare(mpiexec, np, binary, scene)
     restart(mpiexec, np, binary, sys.argv[4], 20)  # the 2D plate

@@ -89,7 +89,7 @@ def progress_lines(process, count, timeout=60):
 
 
 process = subprocess.Popen([binary, "run", str(path), "--overwrite", "--threads", "1",
-                            "--progress-every", "1"],
+                            "--progress-every", "1", "--checkpoint-every", "100000000"],
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 progress = progress_lines(process, 3)
 assert len(progress) == 3 and all(PROGRESS.fullmatch(p) for p in progress), progress
@@ -103,6 +103,10 @@ assert process.returncode == 128 + signal.SIGTERM, (process.returncode, stderr)
 assert "interrupted:" in stderr and "SIGTERM" in stderr, stderr
 summary = check_record(work / "interrupted", "interrupted")
 assert "SIGTERM" in summary["reason"] and 0 < summary["final_time"] < 1.0, summary
+# With checkpoints on, one where it stopped (none came due before), on the manifest.
+final = "checkpoint_%09d.ckpt" % summary["steps"]
+assert (work / "interrupted" / final).is_file(), sorted(os.listdir(work / "interrupted"))
+assert final in (work / "interrupted" / "manifest.json").read_text()
 # SIGKILL leaves no chance to write anything: energy.csv holds the whole rows of its last commit
 # (every 2 s), from step 0 on, and no summary claims the run ended.
 path = work / "killed.json"
