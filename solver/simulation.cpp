@@ -40,6 +40,19 @@ nlohmann::json RunSummary::to_json() const {
   j["layouts_analysed"] = layouts_analysed;
   j["warnings"] = warnings;
   j["files"] = files;
+  // SI units of the numbers here and in the run's files. 1D bars and 2D plane strain carry
+  // extensive quantities per unit cross-section (1D) or per unit thickness (2D).
+  const bool bar = j.value("dimension", 2) == 1;
+  j["units"] = {{"time", "s"},
+                {"length", "m"},
+                {"velocity", "m/s"},
+                {"stress", "Pa"},
+                {"courant", "1"},
+                {"errors", "1 (relative)"},
+                {"seconds", "s (wall)"},
+                {"energy", bar ? "J/m^2" : "J/m"},
+                {"mass", bar ? "kg/m^2" : "kg/m"},
+                {"volume", bar ? "m" : "m^2"}};
   return j;
 }
 

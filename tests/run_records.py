@@ -60,6 +60,7 @@ printed = json.loads(run.stdout)
 assert printed["status"] == "failed" and "the run is unstable" in printed["reason"], printed
 summary = check_record(work / "blow_up", "failed")
 assert summary["reason"] == printed["reason"], summary
+assert summary["units"]["energy"] == "J/m^2" and summary["units"]["stress"] == "Pa", summary
 assert summary["steps"] >= 16, summary
 
 # SIGTERM: a long run stopped once it has said where it is (its stderr is not a terminal: a new
