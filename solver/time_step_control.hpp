@@ -519,20 +519,30 @@ class TimeStepControl : public LayoutQuantisation {
     code = code << 16 | static_cast<std::uint64_t>(masses);
     code = code << 8 | static_cast<std::uint64_t>(poisson);
     if (const auto it = boxes_.find(code); it != boxes_.end()) return it->second;
-    // The corners not analysed yet, analysed, then the smallest over all corners.
+    // The smallest C* over the box's corners, the particles moved onto them.
     const std::vector<Entry> actual = entries_;
     const auto& points = Lattice::points();
-    const int corners = 1 << (n * dim);
-    std::vector<std::vector<double>> keys(corners), missing;
-    std::vector<stability::CellLayout> layouts;
-    for (int corner = 0; corner < corners; ++corner) {
+    const double courant = smallest_over_corners(disc, c, 1 << (n * dim), [&](int corner) {
       entries_ = actual;
       for (int k = 0; k < n; ++k)
         for (int a = 0; a < dim; ++a)
           entries_[k].x[a] = points[box[k * dim + a] + ((corner >> (k * dim + a)) & 1)];
+    });
+    boxes_.emplace(code, courant);
+    return courant;
+  }
+
+  // The smallest C* over a box's corners, `place(corner)` filling entries_ with each corner's
+  // layout: corners not analysed yet are analysed (on threads) into corner_cache_.
+  template <class Place>
+  double smallest_over_corners(const Disc& disc, int c, int corners, Place&& place) {
+    std::vector<std::vector<double>> keys, missing;
+    std::vector<stability::CellLayout> layouts;
+    for (int corner = 0; corner < corners; ++corner) {
+      place(corner);
       std::sort(entries_.begin(), entries_.end());
       fill_key(disc, c);
-      keys[corner] = key_;
+      keys.push_back(key_);
       if (!corner_cache_.count(key_) &&
           std::find(missing.begin(), missing.end(), key_) == missing.end()) {
         missing.push_back(key_);
@@ -542,7 +552,6 @@ class TimeStepControl : public LayoutQuantisation {
     analyse_corners(disc, c, missing, layouts);
     double courant = std::numeric_limits<double>::infinity();
     for (const auto& key : keys) courant = std::min(courant, corner_cache_.at(key));
-    boxes_.emplace(code, courant);
     return courant;
   }
 
@@ -669,9 +678,7 @@ class TimeStepControl : public LayoutQuantisation {
       spread_box_of[a] = spread_box(moments.spread[a]);
     }
     const auto& points = Lattice::points();
-    std::vector<std::vector<double>> keys, missing;
-    std::vector<stability::CellLayout> layouts;
-    for (int corner = 0; corner < (1 << (2 * dim)); ++corner) {
+    const double courant = smallest_over_corners(disc, c, 1 << (2 * dim), [&](int corner) {
       // Per axis a mean and a spread of the box's corners, and their points.
       std::array<std::array<double, 2>, dim> x{}, w{};
       std::array<int, dim> count{};
@@ -692,18 +699,7 @@ class TimeStepControl : public LayoutQuantisation {
           }
           entries_.push_back(entry);
         }
-      std::sort(entries_.begin(), entries_.end());
-      fill_key(disc, c);
-      keys.push_back(key_);
-      if (!corner_cache_.count(key_) &&
-          std::find(missing.begin(), missing.end(), key_) == missing.end()) {
-        missing.push_back(key_);
-        layouts.push_back(key_layout());
-      }
-    }
-    analyse_corners(disc, c, missing, layouts);
-    double courant = std::numeric_limits<double>::infinity();
-    for (const auto& key : keys) courant = std::min(courant, corner_cache_.at(key));
+    });
     moment_boxes_.emplace(code, courant);
     return shear * courant;
   }
