@@ -130,11 +130,8 @@ void check_compatible(const std::string& path, const nlohmann::json& header,
     const double end = scene.time.end, before = old_end.get<double>();
     if (end != before && !(end > at))
       throw refused(path, "time.end: value " + format_number(end) +
-                              " is not after the "
-                              "checkpoint's time " +
-                              format_number(at) +
-                              "; allowed: a later end "
-                              "time, which extends the run");
+                              " is not after the checkpoint's time " + format_number(at) +
+                              "; allowed: a later end time, which extends the run");
     if (times(recorded, before) == times(current, end)) {
       recorded["time"]["end"] = current["time"]["end"];  // the rest must be the same
       if (current.contains("output") && current["output"].contains("times"))

@@ -21,7 +21,6 @@ static_assert(std::endian::native == std::endian::little, "the files say LittleE
 
 // One array of the appended section: its bytes, written after the XML.
 struct Block {
-  std::string type;  // VTK's name: Float64, Int64, UInt8
   std::vector<char> bytes;
 };
 template <class T>
@@ -66,7 +65,7 @@ class ArrayWriter {
       out_ << "</DataArray>\n";
       return;
     }
-    Block block{type, {}};
+    Block block;
     bytes(block);
     compress(block);
     out_ << " format=\"appended\" offset=\"" << offset_ << "\"/>\n";
