@@ -15,8 +15,9 @@
 
 namespace dgmpm::checkpoint {
 
-inline constexpr int kFormat =
-    2;  // 2: initial positions only for moving particles with an exact solution
+// 2: initial positions only for moving particles with an exact solution; 3: for all moving
+// particles (their displacement is an output).
+inline constexpr int kFormat = 3;
 
 struct File {
   nlohmann::json header;

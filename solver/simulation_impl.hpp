@@ -103,7 +103,7 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
   total_particles_ = problem_.particles.size();
   total_cells_ = problem_.grid.num_cells();
   max_speed_ = problem_.max_wave_speed();
-  if (scene_.particles_move && problem_.exact) {  // the exact solution at initial positions
+  if (scene_.particles_move) {  // initial positions: the displacement, the exact solution's
     problem_.particles.tracks_reference = true;
     problem_.particles.reference = problem_.particles.position;
   }
@@ -490,11 +490,12 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
   if (problem_.exact) ex = exact_state(time_);
   const auto& p = problem_.particles;
   // Columns: id, position, mass, volume, physical state, internal variables, the physics' derived
-  // outputs, exact state.
+  // outputs, exact state, displacement (moving particles).
   constexpr int kMass = 1 + dim, kVolume = 2 + dim, kState = 3 + dim;
   constexpr int kInternal = kState + ncomp, kDerived = kInternal + ParticleSet::n_internal;
   constexpr int kExact = kDerived + derived_count;
-  Eigen::MatrixXd table(kExact + (ex ? ncomp : 0), s.cols());
+  const int kDisplacement = kExact + (ex ? ncomp : 0);
+  Eigen::MatrixXd table(kDisplacement + (p.tracks_reference ? dim : 0), s.cols());
   for (Eigen::Index i = 0; i < s.cols(); ++i) {
     table(0, i) = p.id[i];
     table.col(i).segment<dim>(1) = p.position.col(i);
@@ -508,6 +509,8 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
       for (int k = 0; k < derived_count; ++k) table(kDerived + k, i) = d[k];
     }
     if (ex) table.col(i).segment<ncomp>(kExact) = ex->col(i);
+    if (p.tracks_reference)
+      table.col(i).segment<dim>(kDisplacement) = p.position.col(i) - p.reference.col(i);
   }
   if (halo_) table = halo_->gather(table);
   if (!root()) return;
@@ -521,6 +524,7 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
       out << (dim == 1 ? ",exact_stress,exact_velocity"
                        : ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,"
                          "exact_velocity_y");
+    if (p.tracks_reference) out << (dim == 1 ? ",displacement" : ",displacement_x,displacement_y");
     out << ",time\n";
     for (Eigen::Index i = 0; i < table.cols(); ++i) {
       out << static_cast<long>(table(0, i));

@@ -87,6 +87,23 @@ class ArrayWriter {
   std::vector<Block> blocks_;
 };
 
+// The FieldData's "units": one "name: unit" string per array with a unit, the points' and the
+// time's, as VTK writes a string array in text (each string's bytes as numbers, then a 0).
+void write_units(std::ostream& out, const std::vector<PointData>& data, bool time) {
+  std::vector<std::string> entries;
+  for (const PointData& d : data)
+    if (!d.unit.empty()) entries.push_back(d.name + ": " + d.unit);
+  entries.emplace_back("Points: m");
+  if (time) entries.emplace_back("TimeValue: s");
+  out << "<Array type=\"String\" Name=\"units\" NumberOfTuples=\"" << entries.size()
+      << "\" format=\"ascii\">\n";
+  for (const std::string& e : entries) {
+    for (unsigned char c : e) out << static_cast<int>(c) << ' ';
+    out << "0\n";
+  }
+  out << "</Array>\n";
+}
+
 }  // namespace
 
 void write_points(const std::string& path, const Eigen::MatrixXd& positions,
@@ -99,14 +116,14 @@ void write_points(const std::string& path, const Eigen::MatrixXd& positions,
         << (options.binary ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n"
         << "<UnstructuredGrid>\n";
     ArrayWriter arrays(out, options.binary);
-    if (options.time) {  // ParaView's time of a data set read on its own
-      out << "<FieldData>\n";
+    out << "<FieldData>\n";
+    if (options.time)  // ParaView's time of a data set read on its own
       arrays.array(
           "Float64", " Name=\"TimeValue\" NumberOfTuples=\"1\"",
           [&](std::ostream& o) { o << *options.time << '\n'; },
           [&](Block& b) { append(b, *options.time); });
-      out << "</FieldData>\n";
-    }
+    write_units(out, data, options.time.has_value());
+    out << "</FieldData>\n";
     out << "<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n<PointData>\n";
     for (const PointData& d : data) {
       arrays.array(

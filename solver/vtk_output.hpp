@@ -18,16 +18,19 @@
 
 namespace dgmpm::vtk {
 
-// A named point-data array: `components` values per particle, particle after particle.
+// A named point-data array: `components` values per particle, particle after particle, and its
+// SI unit ("1": dimensionless; empty: none, as for ids).
 struct PointData {
   std::string name;
   int components = 1;
   std::vector<double> values;
+  std::string unit;
 };
 
 // How a .vtu is written: arrays as raw little-endian bytes appended after the XML (8 bytes a
 // value, against about 24 as text), or as ASCII; the data set's time in its FieldData
-// (TimeValue), so a file opened on its own still knows it.
+// (TimeValue), so a file opened on its own still knows it. The units of the arrays, points and
+// time go in the FieldData too, as a string array "units" of "name: unit" entries.
 struct VtuOptions {
   bool binary = true;
   std::optional<double> time;
@@ -40,9 +43,10 @@ void write_points(const std::string& path, const Eigen::MatrixXd& positions,
 // The fields of a physics, from the particles' physical states (sigma, v) and, when given, the
 // exact solution's: 1D stress, velocity; 2D sigma_xx, sigma_yy, sigma_xy, sigma_zz, von_mises,
 // velocity (3 components); the stress as a 3 x 3 tensor ("stress_tensor", row by row, for
-// ParaView's tensor filters); mass, volume, size (the side of the particle's volume,
-// volume^(1/dim): cell-sized glyphs), id and material in both; the physics' internal variables
-// and derived outputs.
+// ParaView's tensor filters) and, where the physics defines it, the strain ("strain_tensor");
+// the displacement from the initial position (3 components) where particles track it (moving
+// particles); mass, volume, size (the side of the particle's volume, volume^(1/dim): cell-sized
+// glyphs), id and material in both; the physics' internal variables and derived outputs.
 template <class Physics, class ParticleSet, class Field>
 std::vector<PointData> point_data(const ParticleSet& particles,
                                   const std::vector<typename Physics::Material>& materials,
@@ -70,14 +74,15 @@ void write_series(const std::string& path,
 // --- implementation ----------------------------------------------------------------------------
 
 namespace detail {
-inline PointData row(const std::string& name, const Eigen::MatrixXd& field, int r) {
-  PointData d{name, 1, {}};
+inline PointData row(const std::string& name, const Eigen::MatrixXd& field, int r,
+                     const std::string& unit) {
+  PointData d{name, 1, {}, unit};
   for (Eigen::Index i = 0; i < field.cols(); ++i) d.values.push_back(field(r, i));
   return d;
 }
 inline PointData vector3(const std::string& name, const Eigen::MatrixXd& field, int first,
-                         int count) {
-  PointData d{name, 3, {}};
+                         int count, const std::string& unit) {
+  PointData d{name, 3, {}, unit};
   for (Eigen::Index i = 0; i < field.cols(); ++i)
     for (int k = 0; k < 3; ++k) d.values.push_back(k < count ? field(first + k, i) : 0.0);
   return d;
@@ -90,18 +95,18 @@ std::vector<PointData> point_data(const ParticleSet& particles,
                                   const Field& physical, const std::optional<Field>& exact) {
   std::vector<PointData> data;
   const auto fields = [&](const Eigen::MatrixXd& s, const std::string& prefix) {
-    PointData tensor{prefix + "stress_tensor", 9, {}};
+    PointData tensor{prefix + "stress_tensor", 9, {}, "Pa"};
     if constexpr (Physics::dim == 1) {
-      data.push_back(detail::row(prefix + "stress", s, 0));
-      data.push_back(detail::row(prefix + "velocity", s, 1));
+      data.push_back(detail::row(prefix + "stress", s, 0, "Pa"));
+      data.push_back(detail::row(prefix + "velocity", s, 1, "m/s"));
       for (Eigen::Index i = 0; i < s.cols(); ++i)
         for (int k = 0; k < 9; ++k) tensor.values.push_back(k == 0 ? s(0, i) : 0.0);
       data.push_back(std::move(tensor));
     } else {
-      data.push_back(detail::row(prefix + "sigma_xx", s, PlaneStrain::sxx));
-      data.push_back(detail::row(prefix + "sigma_yy", s, PlaneStrain::syy));
-      data.push_back(detail::row(prefix + "sigma_xy", s, PlaneStrain::sxy));
-      PointData zz{prefix + "sigma_zz", 1, {}}, vm{prefix + "von_mises", 1, {}};
+      data.push_back(detail::row(prefix + "sigma_xx", s, PlaneStrain::sxx, "Pa"));
+      data.push_back(detail::row(prefix + "sigma_yy", s, PlaneStrain::syy, "Pa"));
+      data.push_back(detail::row(prefix + "sigma_xy", s, PlaneStrain::sxy, "Pa"));
+      PointData zz{prefix + "sigma_zz", 1, {}, "Pa"}, vm{prefix + "von_mises", 1, {}, "Pa"};
       for (Eigen::Index i = 0; i < s.cols(); ++i) {
         const auto& m = materials[particles.material[i]];
         const double xx = s(PlaneStrain::sxx, i), yy = s(PlaneStrain::syy, i);
@@ -119,14 +124,30 @@ std::vector<PointData> point_data(const ParticleSet& particles,
       }
       data.push_back(zz);
       data.push_back(vm);
-      data.push_back(detail::vector3(prefix + "velocity", s, PlaneStrain::vx, 2));
+      data.push_back(detail::vector3(prefix + "velocity", s, PlaneStrain::vx, 2, "m/s"));
       data.push_back(std::move(tensor));
     }
   };
   fields(physical, "");
+  if constexpr (physics::HasStrain<Physics>) {
+    PointData strain{"strain_tensor", 9, {}, "1"};
+    for (Eigen::Index i = 0; i < physical.cols(); ++i) {
+      const Eigen::Matrix3d e = Physics::strain_tensor(physical.col(i), particles.internal.col(i),
+                                                       materials[particles.material[i]]);
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) strain.values.push_back(e(r, c));
+    }
+    data.push_back(std::move(strain));
+  }
+  if (particles.tracks_reference)
+    data.push_back(detail::vector3("displacement", particles.position - particles.reference, 0,
+                                   Physics::dim, "m"));
   if (exact) fields(*exact, "exact_");
-  PointData mass{"mass", 1, {}}, volume{"volume", 1, {}}, size{"size", 1, {}}, id{"id", 1, {}},
-      mat{"material", 1, {}};
+  // Per unit thickness in 2D (kg/m, m^2), per unit cross-section in 1D (kg/m^2, m).
+  const char* per_length = Physics::dim == 1 ? "kg/m^2" : "kg/m";
+  PointData mass{"mass", 1, {}, per_length},
+      volume{"volume", 1, {}, Physics::dim == 1 ? "m" : "m^2"}, size{"size", 1, {}, "m"},
+      id{"id", 1, {}, ""}, mat{"material", 1, {}, ""};
   for (int i = 0; i < particles.size(); ++i) {
     mass.values.push_back(particles.mass[i]);
     volume.values.push_back(particles.volume[i]);
@@ -136,14 +157,15 @@ std::vector<PointData> point_data(const ParticleSet& particles,
   }
   for (auto* d : {&mass, &volume, &size, &id, &mat}) data.push_back(std::move(*d));
   for (int k = 0; k < ParticleSet::n_internal; ++k)  // the physics' internal variables
-    data.push_back(detail::row(Physics::internal_names[k], particles.internal, k));
+    data.push_back(
+        detail::row(Physics::internal_names[k], particles.internal, k, Physics::internal_units[k]));
   if constexpr (physics::DerivedOutputs<Physics>) {  // and its derived outputs not written above
     constexpr int n = static_cast<int>(Physics::derived_names.size());
     for (int k = 0; k < n; ++k) {
       const std::string name = Physics::derived_names[k];
       if (std::any_of(data.begin(), data.end(), [&](const PointData& d) { return d.name == name; }))
         continue;
-      PointData d{name, 1, {}};
+      PointData d{name, 1, {}, Physics::derived_units[k]};
       for (int i = 0; i < particles.size(); ++i)
         d.values.push_back(Physics::derived(physical.col(i), particles.internal.col(i),
                                             materials[particles.material[i]])[k]);

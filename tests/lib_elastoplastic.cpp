@@ -3,13 +3,14 @@
 // from dt / tau = 1e-3 to 1e20, the rate-independent limit approached like tau^(1/n), the energy a
 // return removes: exactly (E + h) dp^2 / 2); the fractional step on a bar impact against the
 // exact plateau of the elastic-plastic wave pair; an elastic material in the plastic physics
-// against the elastic bar, to the bit.
+// against the elastic bar, to the bit. The output strain of every physics against Hooke's law.
 #define BOOST_TEST_MODULE elastoplastic
 #include <boost/test/unit_test.hpp>
 
 #include <dgmpm/physics/contract.hpp>
 #include <dgmpm/physics/elastoplastic_bar.hpp>
 #include <dgmpm/physics/plane_strain_plastic.hpp>
+#include <dgmpm/physics/uniaxial_strain_plastic.hpp>
 #include <dgmpm/stepper.hpp>
 
 #include <cmath>
@@ -289,4 +290,82 @@ BOOST_AUTO_TEST_CASE(a_bar_with_isotropic_hardening_converges_to_its_plateau) {
   BOOST_TEST(errors[1] < errors[0]);
   BOOST_TEST(errors[2] < errors[1]);
   BOOST_TEST(errors[2] < 1e-4);
+}
+
+// The strain tensor each physics writes: its elastic part gives back the stress by Hooke's law
+// (sigma = lambda tr(eps_e) I + 2 mu eps_e, written here), its plastic part is the internal
+// variables', and the kinematic constraints hold: eps_zz = 0 in plane strain, eps_yy = eps_zz = 0
+// in uniaxial strain, whatever the plastic strain (states after random returns).
+BOOST_AUTO_TEST_CASE(every_physics_strain_gives_back_its_stress_and_its_constraints) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double nu = 0.3, lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  const auto hooke = [&](const Eigen::Matrix3d& eps) -> Eigen::Matrix3d {
+    return lambda * eps.trace() * Eigen::Matrix3d::Identity() + 2 * mu * eps;
+  };
+  double worst_stress = 0, worst_constraint = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    {  // bars, uniaxial stress: the axial strain only
+      const EP::Material m(E, rho, flow(3e9, 12e9));
+      EP::State q(8e8 * u(rng) / rho, 10 * u(rng));
+      physics::Internal<EP> z = physics::Internal<EP>::Zero();
+      EP::particle_step(q, z, m, 1e-7);
+      const EP::State s = EP::physical(q, m);
+      const Eigen::Matrix3d e = EP::strain_tensor(s, z, m);
+      worst_stress =
+          std::max(worst_stress, std::abs(E * (e(0, 0) - z[EP::plastic_strain]) - s[0]) / 8e8);
+      worst_constraint =
+          std::max(worst_constraint,
+                   (e - Eigen::Matrix3d(Eigen::Vector3d(e(0, 0), 0, 0).asDiagonal())).norm());
+      const Eigen::Matrix3d elastic = ElasticBar::strain_tensor(s, z, m);
+      worst_stress = std::max(worst_stress, std::abs(E * elastic(0, 0) - s[0]) / 8e8);
+    }
+    {  // uniaxial strain
+      using US = UniaxialStrainPlastic;
+      const US::Material m(E, nu, rho, flow(3e9, 12e9));
+      US::State q(2e9 * u(rng) / rho, 10 * u(rng));
+      physics::Internal<US> z = physics::Internal<US>::Zero();
+      US::particle_step(q, z, m, 1e-7);
+      const US::State s = US::physical(q, m);
+      const Eigen::Matrix3d e = US::strain_tensor(s, z, m);
+      const double ep = z[US::plastic_strain];
+      const Eigen::Matrix3d sigma =
+          hooke(e - Eigen::Matrix3d(Eigen::Vector3d(ep, -ep / 2, -ep / 2).asDiagonal()));
+      worst_stress = std::max(worst_stress, std::abs(sigma(0, 0) - s[0]) / 2e9);
+      worst_stress = std::max(worst_stress, std::abs(sigma(1, 1) - US::sigma_yy(s[0], z, m)) / 2e9);
+      worst_constraint = std::max({worst_constraint, std::abs(e(1, 1)), std::abs(e(2, 2)),
+                                   std::abs(e(0, 1)), std::abs(e(0, 2)), std::abs(e(1, 2))});
+    }
+    {  // plane strain, elastic and plastic
+      using PP = PlaneStrainPlastic;
+      const PP::Material m(E, nu, rho, flow(3e9, 12e9));
+      PP::State q;
+      for (int k = 0; k < 3; ++k) q[k] = 1e9 * u(rng) / rho;
+      q[3] = u(rng);
+      q[4] = u(rng);
+      physics::Internal<PP> z = physics::Internal<PP>::Zero();
+      PP::particle_step(q, z, m, 1e-7);
+      const PP::State s = PP::physical(q, m);
+      Eigen::Matrix3d ep;
+      ep << z[PP::exx], z[PP::exy], 0, z[PP::exy], z[PP::eyy], 0, 0, 0, z[PP::ezz];
+      const Eigen::Matrix3d e = PP::strain_tensor(s, z, m), sigma = hooke(e - ep);
+      const double zz = PP::derived(s, z, m)[0];
+      Eigen::Matrix3d expected;
+      expected << s[0], s[2], 0, s[2], s[1], 0, 0, 0, zz;
+      worst_stress = std::max(worst_stress, (sigma - expected).norm() / 1e9);
+      worst_constraint =
+          std::max({worst_constraint, std::abs(e(2, 2)), std::abs(e(0, 2)), std::abs(e(1, 2))});
+      const Eigen::Matrix3d elastic = PlaneStrain::strain_tensor(s, z, m);
+      expected(2, 2) = nu * (s[0] + s[1]);
+      worst_stress = std::max(worst_stress, (hooke(elastic) - expected).norm() / 1e9);
+      worst_constraint = std::max(worst_constraint, std::abs(elastic(2, 2)));
+    }
+  }
+  BOOST_TEST_MESSAGE("strain: worst stress misfit " << worst_stress << ", worst constraint "
+                                                    << worst_constraint);
+  BOOST_TEST(worst_stress < 1e-14);
+  BOOST_TEST(worst_constraint < 1e-17);  // strains of order 1e-2: a few units of round-off
+  static_assert(physics::HasStrain<EP> && physics::HasStrain<PlaneStrain> &&
+                physics::HasStrain<UniaxialStrainPlastic> &&
+                physics::HasStrain<PlaneStrainPlastic>);
 }

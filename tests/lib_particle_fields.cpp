@@ -23,6 +23,7 @@ namespace {
 struct CountingPlaneStrain : PlaneStrain {
   static constexpr int n_internal = 1;
   static constexpr std::array<const char*, n_internal> internal_names{"steps"};
+  static constexpr std::array<const char*, n_internal> internal_units{"1"};
   template <class Q, class Z>
   static void particle_step(Q&&, Z&& z, const Material&, double) {
     z[0] += 1.0;

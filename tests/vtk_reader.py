@@ -4,9 +4,12 @@ runs DGMPM_BINARY on the plate scene twice into fresh folders, with binary VTU (
 raw arrays appended after the XML) and with "output.vtu_encoding": "ascii", opens particles.pvd's
 data sets with vtkXMLUnstructuredGridReader and checks that every .vtu holds the particles and
 fields of the matching CSV, its TimeValue is the .pvd's time, the time series is in order,
-sigma_zz, von Mises, the stress tensor and the size are consistent, the two encodings hold the
-same values (to the bit: text is written with 17 digits) and the binary files are at least three
-times smaller; examples/plot_run.py draws a field of the run and refuses an absent one.
+sigma_zz, von Mises, the stress and strain tensors (the strain from the stress by Hooke's law
+written here, eps_zz = 0) and the size are consistent, the FieldData's units name every array's,
+the two encodings hold the same values (to the bit: text is written with 17 digits) and the
+binary files are at least three times smaller; a third run with moving particles has a
+displacement array (and CSV columns) equal to each particle's position less its first one;
+examples/plot_run.py draws a field of the run and refuses an absent one.
 
     python3 tests/vtk_reader.py build/bin/dgmpm scenes/plate_impact.json
 """
@@ -25,7 +28,11 @@ from vtk.util.numpy_support import vtk_to_numpy
 
 failures = []
 NAMES = ["sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz", "von_mises", "velocity",
-         "stress_tensor", "mass", "volume", "size", "id", "material"]
+         "stress_tensor", "strain_tensor", "mass", "volume", "size", "id", "material"]
+UNITS = {"sigma_xx": "Pa", "sigma_yy": "Pa", "sigma_xy": "Pa", "sigma_zz": "Pa",
+         "von_mises": "Pa", "velocity": "m/s", "stress_tensor": "Pa", "strain_tensor": "1",
+         "mass": "kg/m", "volume": "m^2", "size": "m", "Points": "m", "TimeValue": "s"}
+YOUNG = 2e11  # the plate's steel
 
 
 def check(ok, what):
@@ -34,12 +41,14 @@ def check(ok, what):
         print("FAIL:", what)
 
 
-def run(binary, scene, encoding):
+def run(binary, scene, encoding, move=False):
     """Runs the scene with the given VTU encoding; returns the output folder."""
     out = tempfile.mkdtemp(prefix=f"dgmpm_vtk_{encoding}_")
     with open(scene) as f:
         doc = json.load(f)
     doc.setdefault("output", {})["vtu_encoding"] = encoding
+    if move:
+        doc["particles_move"] = True
     path = os.path.join(out, "scene.json")
     with open(path, "w") as f:
         json.dump(doc, f)
@@ -68,6 +77,12 @@ def read(out):
         arrays = {name: vtk_to_numpy(data.GetArray(name)) for name in names}
         field = grid.GetFieldData().GetArray("TimeValue")
         time_value = field.GetValue(0) if field is not None else None
+        units = grid.GetFieldData().GetAbstractArray("units")
+        units = dict(units.GetValue(i).split(": ") for i in range(units.GetNumberOfValues())) \
+            if units is not None else {}
+        for name, unit in UNITS.items():
+            check(units.get(name) == unit, f"{path}: unit of {name} {units.get(name)}, not {unit}")
+        check(set(units) <= set(names) | {"Points", "TimeValue"}, f"{path}: units {units}")
         result.append((float(s.get("timestep")), path,
                        vtk_to_numpy(grid.GetPoints().GetData()), arrays, time_value))
     return result
@@ -105,15 +120,52 @@ def check_against_csv(out, sets, nu=0.3):
             worst = max(worst, max(abs(a - b) for a, b in zip(arr["stress_tensor"][i], tensor))
                         / scale)
             worst = max(worst, abs(arr["size"][i] - math.sqrt(arr["volume"][i])))
+            trace = sxx + syy + szz
+            strain = [((1 + nu) * a - nu * trace * (k in (0, 4, 8))) / YOUNG
+                      for k, a in enumerate(tensor)]
+            worst = max(worst, max(abs(a - b) for a, b in zip(arr["strain_tensor"][i], strain))
+                        * YOUNG / scale, abs(arr["strain_tensor"][i][8]) * YOUNG / scale)
         check(worst < 1e-12, f"{path}: VTK and CSV differ by {worst}")
         if k == len(sets) - 1:
             check(arr["sigma_xx"].min() < -1e8, f"{path}: the load's compression is there")
+
+
+def check_displacement(out, sets, scene):
+    """The moving run: position - displacement is the particle's seeding point (the centre of
+    its first cell: one particle per cell), in the VTU and the CSV."""
+    with open(scene) as f:
+        h = np.array(json.load(f)["grid"]["cell_size"] + [1.0])
+    first = {}
+    last = sets[-1][3]
+    for i, p, u in zip(last["id"], sets[-1][2], last["displacement"]):  # the cell of p - u
+        centre = (np.floor((p - u) / h) + 0.5) * h
+        centre[2] = 0.0
+        first[int(i)] = centre
+    worst, largest = 0.0, 0.0
+    for k, (t, path, points, arr, _) in enumerate(sets):
+        check("displacement" in arr and arr["displacement"].shape == (len(points), 3),
+              f"{path}: a displacement array of 3 components")
+        with open(os.path.join(out, f"particles_{k:03d}.csv")) as f:
+            rows = {int(r["id"]): r for r in csv.DictReader(f)}
+        d = arr["displacement"]
+        u = points - np.array([first[int(i)] for i in arr["id"]])
+        worst = max(worst, float(np.abs(d - u).max()))
+        largest = max(largest, float(np.abs(u).max()))
+        csv_u = np.array([[float(rows[int(i)]["displacement_x"]),
+                           float(rows[int(i)]["displacement_y"]), 0.0] for i in arr["id"]])
+        worst = max(worst, float(np.abs(csv_u - d).max()))
+    check(worst < 1e-14, f"displacements differ from the positions' change by {worst} m")
+    check(largest > 1e-3, f"the plate moved: largest displacement {largest} m")
+    print(f"moving run: {len(sets)} data sets, largest displacement {largest:.3g} m, "
+          f"worst difference {worst:.2g} m")
 
 
 def main():
     binary, scene = sys.argv[1], sys.argv[2]
     outs = {e: run(binary, scene, e) for e in ("binary", "ascii")}
     sets = {e: read(out) for e, out in outs.items()}
+    moving = run(binary, scene, "binary", move=True)
+    check_displacement(moving, read(moving), scene)
     for e in outs:
         check_against_csv(outs[e], sets[e])
     check(len(sets["binary"]) == len(sets["ascii"]), "as many data sets in both encodings")

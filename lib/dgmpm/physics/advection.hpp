@@ -16,6 +16,7 @@ struct Advection {
   static constexpr int n_comp = 1;
   static constexpr int n_internal = 0;  // no internal variables (elastic)
   static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
+  static constexpr std::array<const char*, n_internal> internal_units{};  // SI
   using State = Eigen::Matrix<double, 1, 1>;
 
   struct Material {

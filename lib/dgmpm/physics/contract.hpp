@@ -31,6 +31,7 @@ concept ConservationLaw = requires(const typename P::State& q, const typename P:
   requires P::n_comp >= 1;
   requires P::n_internal >= 0;
   requires P::internal_names.size() == static_cast<std::size_t>(P::n_internal);
+  requires P::internal_units.size() == static_cast<std::size_t>(P::n_internal);
   { P::max_wave_speed(m) } -> std::convertible_to<double>;
   { P::density(m) } -> std::convertible_to<double>;
   { P::blend(m, mass, m, mass) } -> std::convertible_to<typename P::Material>;
@@ -94,13 +95,22 @@ concept Dissipative = requires(const Internal<P>& z, const typename P::Material&
   { P::dissipated_energy_per_mass(z) } -> std::convertible_to<double>;
 };
 
-// Output columns a physics derives from a particle (sigma_zz, back stress...): their names and
-// values from its physical state, internal variables and material.
+// Output columns a physics derives from a particle (sigma_zz, back stress...): their names, SI
+// units and values from its physical state, internal variables and material.
 template <class P>
 concept DerivedOutputs = requires(const typename P::State& s, const Internal<P>& z,
                                   const typename P::Material& m) {
   P::derived_names.size();
+  requires P::derived_units.size() == P::derived_names.size();
   { P::derived(s, z, m) } -> std::convertible_to<std::array<double, P::derived_names.size()>>;
+};
+
+// A physics whose particles have a strain (small strain: from the stress and the internal
+// variables), as a 3 x 3 tensor for outputs.
+template <class P>
+concept HasStrain = requires(const typename P::State& s, const Internal<P>& z,
+                             const typename P::Material& m) {
+  { P::strain_tensor(s, z, m) } -> std::convertible_to<Eigen::Matrix3d>;
 };
 
 template <class P>

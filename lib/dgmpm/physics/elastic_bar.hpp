@@ -15,6 +15,7 @@ struct ElasticBar {
   static constexpr int n_comp = 2;
   static constexpr int n_internal = 0;  // no internal variables (elastic)
   static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
+  static constexpr std::array<const char*, n_internal> internal_units{};  // SI
   using State = Eigen::Matrix<double, n_comp, 1>;
   enum Component { stress = 0, velocity = 1 };
 
@@ -103,6 +104,15 @@ struct ElasticBar {
   static void add_stress_rate(Q&& q, const Eigen::Matrix<double, 1, 1>& grad_v, const Material& m,
                               double dt) {
     q[0] += dt * m.specific_modulus() * grad_v(0, 0);
+  }
+
+  // The strain of a physical state (sigma, v) for outputs: the bar's axial strain sigma / E (its
+  // lateral strains are not modelled) as a 3 x 3 tensor.
+  template <class Z>
+  static Eigen::Matrix3d strain_tensor(const State& s, const Z&, const Material& m) {
+    Eigen::Matrix3d e = Eigen::Matrix3d::Zero();
+    e(0, 0) = s[stress] / m.young;
+    return e;
   }
 
   // Energy per unit mass: kinetic v^2 / 2, elastic sigma^2 / (2 E rho) = s^2 rho / (2 E).

@@ -21,6 +21,7 @@ struct ElastoPlasticBar : ElasticBar {
   enum Internal { plastic_strain = 0, equivalent_plastic_strain = 1, dissipation = 2 };
   static constexpr std::array<const char*, n_internal> internal_names{"eps_p", "plastic_strain",
                                                                       "dissipation"};
+  static constexpr std::array<const char*, n_internal> internal_units{"1", "1", "J/kg"};
 
   class Material : public ElasticBar::Material {
    public:
@@ -58,9 +59,18 @@ struct ElastoPlasticBar : ElasticBar {
 
   // Output columns derived from a particle (physical state, internal variables, material).
   static constexpr std::array<const char*, 1> derived_names{"back_stress"};
+  static constexpr std::array<const char*, 1> derived_units{"Pa"};
   template <class Z>
   static std::array<double, 1> derived(const State&, const Z& z, const Material& m) {
     return {m.flow.kinematic_hardening * z[plastic_strain]};
+  }
+
+  // The axial strain, elastic and plastic: sigma / E + eps_p.
+  template <class Z>
+  static Eigen::Matrix3d strain_tensor(const State& s, const Z& z, const Material& m) {
+    Eigen::Matrix3d e = ElasticBar::strain_tensor(s, z, m);
+    e(0, 0) += z[plastic_strain];
+    return e;
   }
 
   // Energy per unit mass stored by hardening: (H_iso p^2 + C_kin eps_p^2) / (2 rho).

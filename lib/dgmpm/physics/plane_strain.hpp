@@ -19,6 +19,7 @@
 //   reflect(kind, axis, w)               the boundary's mirror map R (linear part of its ghost)
 
 #include "../boundary.hpp"
+#include "small_strain.hpp"
 
 #include <Eigen/Core>
 #include <array>
@@ -31,6 +32,7 @@ struct PlaneStrain {
   static constexpr int n_comp = 5;
   static constexpr int n_internal = 0;  // no internal variables (elastic)
   static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
+  static constexpr std::array<const char*, n_internal> internal_units{};  // SI
   using State = Eigen::Matrix<double, n_comp, 1>;
   using Vec = Eigen::Matrix<double, 2, 1>;
   enum Component { sxx = 0, syy = 1, sxy = 2, vx = 3, vy = 4 };
@@ -252,6 +254,19 @@ struct PlaneStrain {
     q[sxx] += k * (m.p_modulus() * exx + m.lambda() * eyy);
     q[syy] += k * (m.lambda() * exx + m.p_modulus() * eyy);
     q[sxy] += k * 2.0 * m.mu() * exy;
+  }
+
+  // The stress tensor of a physical state with sigma_zz, and its strain (eps_zz = 0 up to
+  // round-off), for outputs.
+  template <class Z>
+  static Eigen::Matrix3d stress_tensor_3d(const State& s, const Material& m, const Z& z) {
+    Eigen::Matrix3d t;
+    t << s[sxx], s[sxy], 0, s[sxy], s[syy], 0, 0, 0, sigma_zz(s, m, z);
+    return t;
+  }
+  template <class Z>
+  static Eigen::Matrix3d strain_tensor(const State& s, const Z& z, const Material& m) {
+    return physics::isotropic_strain(stress_tensor_3d(s, m, z), m.lambda(), m.mu());
   }
 
   // --- energy (per unit mass) ------------------------------------------------------------------

@@ -30,6 +30,8 @@ struct PlaneStrainPlastic : PlaneStrain {
   };
   static constexpr std::array<const char*, n_internal> internal_names{
       "eps_p_xx", "eps_p_yy", "eps_p_xy", "eps_p_zz", "plastic_strain", "dissipation"};
+  static constexpr std::array<const char*, n_internal> internal_units{"1", "1", "1",
+                                                                      "1", "1", "J/kg"};
 
   class Material : public PlaneStrain::Material {
    public:
@@ -57,6 +59,7 @@ struct PlaneStrainPlastic : PlaneStrain {
   static constexpr std::array<const char*, 6> derived_names{"sigma_zz",       "von_mises",
                                                             "back_stress_xx", "back_stress_yy",
                                                             "back_stress_xy", "back_stress_zz"};
+  static constexpr std::array<const char*, 6> derived_units{"Pa", "Pa", "Pa", "Pa", "Pa", "Pa"};
   template <class Z>
   static std::array<double, 6> derived(const State& s, const Z& z, const Material& m) {
     const double zz = sigma_zz(s, m, z), mean = (s[sxx] + s[syy] + zz) / 3;
@@ -64,6 +67,21 @@ struct PlaneStrainPlastic : PlaneStrain {
     const double eq = std::sqrt(1.5 * (a * a + b * b + c * c + 2 * s[sxy] * s[sxy]));
     const double k = 2.0 / 3.0 * m.flow.kinematic_hardening;
     return {zz, eq, k * z[exx], k * z[eyy], k * z[exy], k * z[ezz]};
+  }
+
+  // The strain tensor, elastic (the compliance of the stress with its sigma_zz) plus plastic:
+  // eps_zz = 0 up to round-off, as plane strain asks.
+  template <class Z>
+  static Eigen::Matrix3d strain_tensor(const State& s, const Z& z, const Material& m) {
+    Eigen::Matrix3d sigma = stress_tensor_3d(s, m, z);
+    sigma(2, 2) = sigma_zz(s, m, z);  // with the plastic strain's share
+    Eigen::Matrix3d e = physics::isotropic_strain(sigma, m.lambda(), m.mu());
+    e(0, 0) += z[exx];
+    e(1, 1) += z[eyy];
+    e(0, 1) += z[exy];
+    e(1, 0) += z[exy];
+    e(2, 2) += z[ezz];
+    return e;
   }
 
   // The return of particle state q (specific) and internal variables z over dt: radial in the

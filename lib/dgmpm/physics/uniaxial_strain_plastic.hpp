@@ -9,6 +9,7 @@
 
 #include "elastic_bar.hpp"
 #include "plastic_flow.hpp"
+#include "small_strain.hpp"
 
 #include <array>
 #include <cmath>
@@ -20,6 +21,7 @@ struct UniaxialStrainPlastic : ElasticBar {
   enum Internal { plastic_strain = 0, equivalent_plastic_strain = 1, dissipation = 2 };
   static constexpr std::array<const char*, n_internal> internal_names{"eps_p_xx", "plastic_strain",
                                                                       "dissipation"};
+  static constexpr std::array<const char*, n_internal> internal_units{"1", "1", "J/kg"};
 
   // The bar's material with the P-wave modulus as its `young`, and the Lame moduli.
   class Material : public ElasticBar::Material {
@@ -74,6 +76,7 @@ struct UniaxialStrainPlastic : ElasticBar {
   // |sigma_xx - sigma_yy| and the back stress X_xx = (2/3) C_kin eps_p_xx.
   static constexpr std::array<const char*, 3> derived_names{"sigma_yy", "von_mises",
                                                             "back_stress_xx"};
+  static constexpr std::array<const char*, 3> derived_units{"Pa", "Pa", "Pa"};
   template <class Z>
   static std::array<double, 3> derived(const State& s, const Z& z, const Material& m) {
     const double yy = sigma_yy(s[0], z, m);
@@ -100,6 +103,16 @@ struct UniaxialStrainPlastic : ElasticBar {
   template <class Z>
   static double dissipated_energy_per_mass(const Z& z) {
     return z[dissipation];
+  }
+
+  // The strain tensor, elastic (the isotropic compliance of sigma = diag(sigma_xx, sigma_yy,
+  // sigma_yy)) plus plastic (eps_p_xx (1, -1/2, -1/2)): eps_yy = eps_zz = 0 up to round-off.
+  template <class Z>
+  static Eigen::Matrix3d strain_tensor(const State& s, const Z& z, const Material& m) {
+    const double yy = sigma_yy(s[0], z, m), e = z[plastic_strain];
+    return physics::isotropic_strain(Eigen::Vector3d(s[0], yy, yy).asDiagonal(), m.lambda(),
+                                     m.mu()) +
+           Eigen::Matrix3d(Eigen::Vector3d(e, -e / 2, -e / 2).asDiagonal());
   }
 };
 
