@@ -107,7 +107,7 @@ class DGOperator {
   // further ahead, by the face's plus cell: a face's transverse correction gathers those of its
   // two cells' other faces. The sums are those of the face-by-face composition project ->
   // residual -> update -> interpolate in the same order: the same values to the last bit (that
-  // composition is written out in tests/solver_fused_steps.cpp). Stages that write particles
+  // composition is ReferenceStepper, reference_stepper.hpp). Stages that write particles
   // return whether every new state is finite.
 
   // Euler: q = projection of qp, then qp of each cell = interpolation of q + dt M^-1 r(q, t),
@@ -159,7 +159,7 @@ class DGOperator {
   }
 
   // --- The parts of the residual r_i = sum_l K^l_ij F^s_l(q_j) + Fhat_i, each defined once: the
-  // stages above compose them cell by cell; the tests compose them face by face.
+  // stages above compose them cell by cell; ReferenceStepper composes them face by face.
   using CellBlock = Eigen::Matrix<double, ncomp, npc>;
   using FaceFluctuations = std::array<NodalField, dim>;  // per axis, columns 2 f + side
 

@@ -19,6 +19,20 @@ struct StepperOptions {
   Formulation formulation = Formulation::consistent;
 };
 
+// The physics' own particle step over dt for `particles` (a constitutive correction of each
+// state and its internal variables, as `particle_step(p, q)` of DGOperator's stages), or none.
+template <class Physics>
+auto physics_particle_step(ParticlesOf<Physics>& particles,
+                           const std::vector<typename Physics::Material>& materials, double dt) {
+  if constexpr (physics::ParticleStepPhysics<Physics>) {
+    return [&particles, &materials, dt](int p, auto&& q) {
+      Physics::particle_step(q, particles.internal.col(p), materials[particles.material[p]], dt);
+    };
+  } else {
+    return NoParticleStep{};
+  }
+}
+
 template <physics::DGPhysics Physics>
 requires physics::InternalVariablesStepped<Physics>
 class Stepper {
@@ -64,17 +78,11 @@ class Stepper {
         integrator_);
   }
 
-  // A step of `particles`, with the physics' own particle step when it has one (a constitutive
-  // correction of the state and internal variables over dt), else none.
+  // A step of `particles`, with the physics' own particle step (physics_particle_step).
   bool step(ParticleSet& particles, const std::vector<typename Physics::Material>& materials,
             double t, double dt) {
-    if constexpr (physics::ParticleStepPhysics<Physics>) {
-      return step(particles.state, particles.mass, t, dt, [&](int p, auto&& q) {
-        Physics::particle_step(q, particles.internal.col(p), materials[particles.material[p]], dt);
-      });
-    } else {
-      return step(particles.state, particles.mass, t, dt);
-    }
+    return step(particles.state, particles.mass, t, dt,
+                physics_particle_step<Physics>(particles, materials, dt));
   }
 
   const StepperOptions& options() const { return options_; }
