@@ -638,10 +638,14 @@ class DGOperator {
   // the occupied cell, on its plus side (side 1: the face is its upper one) or minus side.
   State boundary_star(int l, int f, const State& q, const Material& mat, int side, double t) const {
     const int b = boundary_condition(l, f);
-    const State g =
-        b >= 0 ? Physics::ghost(conditions_[b].kind, condition_value(conditions_[b], t), l, q, mat)
-               : Physics::ghost(BoundaryKind::free, Vec::Zero(), l, q, mat);
-    return side ? Physics::riemann(l, q, mat, g, mat) : Physics::riemann(l, g, mat, q, mat);
+    const BoundaryKind kind = b >= 0 ? conditions_[b].kind : BoundaryKind::free;
+    const Vec value = b >= 0 ? condition_value(conditions_[b], t) : Vec::Zero();
+    if constexpr (physics::DirectBoundary<Physics>) {
+      return Physics::boundary_star(kind, value, l, q, mat, side);
+    } else {
+      const State g = Physics::ghost(kind, value, l, q, mat);
+      return side ? Physics::riemann(l, q, mat, g, mat) : Physics::riemann(l, g, mat, q, mat);
+    }
   }
 
   bool occupied(int c) const {

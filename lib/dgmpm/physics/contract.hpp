@@ -20,13 +20,28 @@ namespace dgmpm::physics {
 template <class P>
 using Internal = Eigen::Matrix<double, P::n_internal, 1>;
 
+// A boundary face's star state: the Riemann problem against a ghost state that makes it return
+// the prescribed value (ghost), or, where no ghost state can (finite strain: the impedance changes
+// with the state), the star state itself (boundary_star; side 1: the inside is the minus side).
+template <class P>
+concept GhostBoundary = requires(const typename P::State& q, const typename P::Material& m,
+                                 int axis, BoundaryKind kind,
+                                 const Eigen::Matrix<double, P::dim, 1>& value) {
+  { P::ghost(kind, value, axis, q, m) } -> std::convertible_to<typename P::State>;
+};
+template <class P>
+concept DirectBoundary = requires(const typename P::State& q, const typename P::Material& m,
+                                  int axis, int side, BoundaryKind kind,
+                                  const Eigen::Matrix<double, P::dim, 1>& value) {
+  { P::boundary_star(kind, value, axis, q, m, side) } -> std::convertible_to<typename P::State>;
+};
+
 // A hyperbolic system q_t + div F(q) = 0 in specific form, as DCU's operator steps it: sizes,
 // materials (one per cell, blended where a cell holds several), the volume term's flux, the
-// Riemann problem of an edge, the flux of its star state and the ghost state of a boundary.
+// Riemann problem of an edge, the flux of its star state and the star state of a boundary.
 template <class P>
 concept ConservationLaw = requires(const typename P::State& q, const typename P::Material& m,
-                                   double mass, int axis, BoundaryKind kind,
-                                   const Eigen::Matrix<double, P::dim, 1>& value) {
+                                   double mass, int axis) {
   requires P::dim >= 1 && P::dim <= 2;
   requires P::n_comp >= 1;
   requires P::n_internal >= 0;
@@ -39,7 +54,7 @@ concept ConservationLaw = requires(const typename P::State& q, const typename P:
   { P::specific_flux(axis, q, m) } -> std::convertible_to<typename P::State>;
   { P::riemann(axis, q, m, q, m) } -> std::convertible_to<typename P::State>;
   { P::flux(axis, q, m) } -> std::convertible_to<typename P::State>;
-  { P::ghost(kind, value, axis, q, m) } -> std::convertible_to<typename P::State>;
+  requires GhostBoundary<P> || DirectBoundary<P>;
 };
 
 // CTU in 2D: the fluctuations entering a cell, their transverse split and a boundary's mirror map.
