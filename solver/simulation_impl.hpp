@@ -515,15 +515,13 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
   if (halo_) table = halo_->gather(table);
   if (!root()) return;
   output::write_atomically(path, [&](std::ostream& out) {
-    out << (dim == 1 ? "id,x,mass,stress,velocity"
-                     : "id,x,y,mass,volume,sigma_xx,sigma_yy,sigma_xy,velocity_x,velocity_y");
+    out << (dim == 1 ? "id,x,mass" : "id,x,y,mass,volume");
+    for (const char* name : Physics::state_names) out << ',' << name;
     for (const char* name : Physics::internal_names) out << ',' << name;
     if constexpr (derived_count > 0)
       for (const char* name : Physics::derived_names) out << ',' << name;
     if (ex)
-      out << (dim == 1 ? ",exact_stress,exact_velocity"
-                       : ",exact_sigma_xx,exact_sigma_yy,exact_sigma_xy,exact_velocity_x,"
-                         "exact_velocity_y");
+      for (const char* name : Physics::state_names) out << ",exact_" << name;
     if (p.tracks_reference) out << (dim == 1 ? ",displacement" : ",displacement_x,displacement_y");
     out << ",time\n";
     for (Eigen::Index i = 0; i < table.cols(); ++i) {

@@ -17,6 +17,8 @@ struct Advection {
   static constexpr int n_internal = 0;  // no internal variables (elastic)
   static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
   static constexpr std::array<const char*, n_internal> internal_units{};  // SI
+  static constexpr std::array<const char*, n_comp> state_names{"u"};
+  static constexpr std::array<const char*, n_comp> state_units{"1"};
   using State = Eigen::Matrix<double, 1, 1>;
 
   struct Material {

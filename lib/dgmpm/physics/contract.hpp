@@ -47,6 +47,8 @@ concept ConservationLaw = requires(const typename P::State& q, const typename P:
   requires P::n_internal >= 0;
   requires P::internal_names.size() == static_cast<std::size_t>(P::n_internal);
   requires P::internal_units.size() == static_cast<std::size_t>(P::n_internal);
+  requires P::state_names.size() == static_cast<std::size_t>(P::n_comp);
+  requires P::state_units.size() == static_cast<std::size_t>(P::n_comp);
   { P::max_wave_speed(m) } -> std::convertible_to<double>;
   { P::density(m) } -> std::convertible_to<double>;
   { P::blend(m, mass, m, mass) } -> std::convertible_to<typename P::Material>;

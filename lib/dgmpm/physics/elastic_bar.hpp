@@ -16,6 +16,9 @@ struct ElasticBar {
   static constexpr int n_internal = 0;  // no internal variables (elastic)
   static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
   static constexpr std::array<const char*, n_internal> internal_units{};  // SI
+  // The physical state's components (sigma, v), as output columns, and their SI units.
+  static constexpr std::array<const char*, n_comp> state_names{"stress", "velocity"};
+  static constexpr std::array<const char*, n_comp> state_units{"Pa", "m/s"};
   using State = Eigen::Matrix<double, n_comp, 1>;
   enum Component { stress = 0, velocity = 1 };
 

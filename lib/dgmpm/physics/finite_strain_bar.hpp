@@ -29,6 +29,9 @@ struct FiniteStrainBar {
   static constexpr int n_internal = 0;
   static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
   static constexpr std::array<const char*, n_internal> internal_units{};  // SI
+  // The physical state's components (F, v), as output columns, and their SI units.
+  static constexpr std::array<const char*, n_comp> state_names{"F", "velocity"};
+  static constexpr std::array<const char*, n_comp> state_units{"1", "m/s"};
   using State = Eigen::Matrix<double, n_comp, 1>;
   enum Component { deformation_gradient = 0, velocity = 1 };
 

@@ -33,6 +33,10 @@ struct PlaneStrain {
   static constexpr int n_internal = 0;  // no internal variables (elastic)
   static constexpr std::array<const char*, n_internal> internal_names{};  // output columns
   static constexpr std::array<const char*, n_internal> internal_units{};  // SI
+  // The physical state's components (sigma, v), as output columns, and their SI units.
+  static constexpr std::array<const char*, n_comp> state_names{"sigma_xx", "sigma_yy", "sigma_xy",
+                                                               "velocity_x", "velocity_y"};
+  static constexpr std::array<const char*, n_comp> state_units{"Pa", "Pa", "Pa", "m/s", "m/s"};
   using State = Eigen::Matrix<double, n_comp, 1>;
   using Vec = Eigen::Matrix<double, 2, 1>;
   enum Component { sxx = 0, syy = 1, sxy = 2, vx = 3, vy = 4 };
