@@ -18,6 +18,7 @@
 
 #include "boundary.hpp"
 #include "discretisation.hpp"
+#include "faces.hpp"
 #include "grid.hpp"
 #include "physics/contract.hpp"
 
@@ -72,14 +73,13 @@ class DGOperator {
 
   DGOperator(const Grid<dim>& grid, const Disc& disc, const Boundaries<dim>& boundaries,
              FluxScheme flux = FluxScheme::dcu)
-      : grid_(grid), disc_(disc), scheme_(dim > 1 ? flux : FluxScheme::dcu) {
-    for (int l = 0, stride = 1; l < dim; stride *= grid.cells[l], ++l) stride_[l] = stride;
+      : grid_(grid), disc_(disc), scheme_(dim > 1 ? flux : FluxScheme::dcu), faces_(grid),
+        boundary_(grid, faces_, boundaries) {
     for (int l = 0; l < dim; ++l) {
       face_weight_[l] = 1.0;
       for (int k = 0; k < dim; ++k)
         if (k != l) face_weight_[l] *= grid.cell_size[k];
       face_weight_[l] /= face_nodes;  // lumped edge integral: an equal share per face node
-      tabulate_faces(l, boundaries);
       if (scheme_ == FluxScheme::ctu) {
         star_[l].resize(ncomp, num_faces(l));
         fluctuation_[l].resize(ncomp, 2 * num_faces(l));
@@ -90,7 +90,7 @@ class DGOperator {
   const Grid<dim>& grid() const { return grid_; }
   const Disc& discretisation() const { return disc_; }
   int num_nodes() const { return grid_.num_nodes(); }
-  int num_faces(int axis) const { return static_cast<int>(face_cells_[axis].size()); }
+  int num_faces(int axis) const { return faces_.num_faces(axis); }
 
   // The sweeps below run on OpenMP threads on large grids, over contiguous ranges of cells. A cell
   // writes only its own nodes (broken shape functions) and particles, a face its own star state
@@ -163,7 +163,7 @@ class DGOperator {
   using CellBlock = Eigen::Matrix<double, ncomp, npc>;
   using FaceFluctuations = std::array<NodalField, dim>;  // per axis, columns 2 f + side
 
-  std::pair<int, int> face_cells(int l, int f) const { return face_cells_[l][f]; }
+  std::pair<int, int> face_cells(int l, int f) const { return faces_.cells(l, f); }
   // Each face node's share of the lumped edge integral.
   double face_weight(int l) const { return face_weight_[l]; }
 
@@ -183,7 +183,7 @@ class DGOperator {
   // Star state of face f along l from the edge states of its sides (a boundary state where one
   // side has no particles); false when neither side is occupied.
   bool face_star(int l, int f, const NodalField& qn, double t, State& star) const {
-    const auto [cm, cp] = face_cells_[l][f];
+    const auto [cm, cp] = faces_.cells(l, f);
     const bool here = occupied(cm), there = occupied(cp);
     if (!here && !there) return false;
     const State minus = here ? edge_state(qn, cm, l, 1) : State::Zero();
@@ -200,7 +200,7 @@ class DGOperator {
   [[gnu::always_inline]] inline State entering_fluctuation(int l, int f, const State& star,
                                                            const NodalField& qn, double dt,
                                                            int side) const requires(dim > 1) {
-    const auto [cm, cp] = face_cells_[l][f];
+    const auto [cm, cp] = faces_.cells(l, f);
     const int c = side ? cp : cm;
     return (dt / (2.0 * grid_.cell_size[l])) *
            Physics::fluctuation(l, star, edge_state(qn, c, l, !side), disc_.cell_material(c), side);
@@ -214,7 +214,7 @@ class DGOperator {
                                                             const FaceFluctuations& w) const
       requires(dim > 1) {
     State correction = State::Zero();
-    const auto [gm, gp] = face_cells_[t][g];
+    const auto [gm, gp] = faces_.cells(t, g);
     for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
       const int c = up ? gm : gp, o = up ? gp : gm;
       if (!occupied(c)) continue;
@@ -223,12 +223,12 @@ class DGOperator {
         if (l == t) continue;
         for (int side = 0; side < 2; ++side) {
           // c's face on `side` along l; c is its plus cell when it is c's lower face.
-          const int f = cell_faces_[l][2 * c + side];
+          const int f = faces_.of_cell(l, c, side);
           const State wf = w[l].col(2 * f + (side == 0));
           if (occupied(o)) {
             correction -= Physics::transverse(t, wf, mat, disc_.cell_material(o), up);
           } else {
-            const State mirrored = Physics::reflect(mirror_kind(t, g), t, wf);
+            const State mirrored = Physics::reflect(boundary_.kind(t, g), t, wf);
             correction -= Physics::transverse(t, wf, mat, mat, up) +
                           Physics::transverse(t, mirrored, mat, mat, !up);
           }
@@ -247,8 +247,8 @@ class DGOperator {
                         Counted counted = {}) const {
     double power = 0.0;
     Eigen::Matrix<double, ncomp, npc> q;
-    for (const auto& [l, f] : loaded_faces_) {
-      const auto [cm, cp] = face_cells_[l][f];
+    for (const auto& [l, f] : boundary_.loaded()) {
+      const auto [cm, cp] = faces_.cells(l, f);
       const int c = cm >= 0 ? cm : cp;
       if (!disc_.occupied(c) || !counted(c)) continue;
       project_cell(c, qp, mass, q);
@@ -337,7 +337,7 @@ class DGOperator {
       if (disc_.occupied(c))
         project_cell(c, *projection.qp, mass, projection.q->template middleCols<npc>(c * npc));
     };
-    const int reach = stride_[dim - 1];
+    const int reach = faces_.stride(dim - 1);
     if (scheme_ == FluxScheme::dcu) {
       const auto body = [&](int c, Sweep& sweep) {
         CellBlock out;
@@ -393,9 +393,9 @@ class DGOperator {
       State* slots = star_cache_.data() + per_thread * thread;
       for (int l = 0; l < dim; ++l) {
         sweep.stars[l] = slots;
-        slots += stride_[l];
+        slots += faces_.stride(l);
       }
-      for (int l = 0; l < dim; ++l) sweep.slot[l] = sweep.begin % stride_[l];
+      for (int l = 0; l < dim; ++l) sweep.slot[l] = sweep.begin % faces_.stride(l);
       for (int c = sweep.begin; c < sweep.end; ++c) {
         [[maybe_unused]] const auto during = [&](const auto& a) {
           const int x = c + a.lead;
@@ -404,7 +404,7 @@ class DGOperator {
         (during(ahead), ...);
         if (disc_.occupied(c)) body(c, sweep);
         for (int l = 0; l < dim; ++l)
-          if (++sweep.slot[l] == stride_[l]) sweep.slot[l] = 0;
+          if (++sweep.slot[l] == faces_.stride(l)) sweep.slot[l] = 0;
       }
       finite = sweep.nonfinite.allFinite();
     }
@@ -414,7 +414,7 @@ class DGOperator {
   // cache line (in 1D a thread has a single slot, written at every cell).
   std::size_t star_slots_per_thread() const {
     std::size_t slots = 128 / sizeof(State) + 1;
-    for (int l = 0; l < dim; ++l) slots += static_cast<std::size_t>(stride_[l]);
+    for (int l = 0; l < dim; ++l) slots += static_cast<std::size_t>(faces_.stride(l));
     return slots;
   }
 
@@ -423,9 +423,9 @@ class DGOperator {
   [[gnu::always_inline]] inline void own_faces(int c, const NodalField& qn, double t,
                                                double dt) const {
     for (int l = 0; l < dim; ++l) {
-      store_face(l, cell_faces_[l][2 * c], qn, t, dt);
-      const int upper = cell_faces_[l][2 * c + 1];
-      if (face_cells_[l][upper].second < 0) store_face(l, upper, qn, t, dt);
+      store_face(l, faces_.of_cell(l, c, 0), qn, t, dt);
+      const int upper = faces_.of_cell(l, c, 1);
+      if (faces_.cells(l, upper).second < 0) store_face(l, upper, qn, t, dt);
     }
   }
   [[gnu::always_inline]] inline void store_face(int l, int f, const NodalField& qn, double t,
@@ -433,7 +433,7 @@ class DGOperator {
     State star;
     if (!face_star(l, f, qn, t, star)) return;
     star_[l].col(f) = star;
-    const auto [cm, cp] = face_cells_[l][f];
+    const auto [cm, cp] = faces_.cells(l, f);
     for (int side = 0; side < 2; ++side)
       if (occupied(side ? cp : cm))
         fluctuation_[l].col(2 * f + side) = entering_fluctuation(l, f, star, qn, dt, side);
@@ -452,12 +452,12 @@ class DGOperator {
     for (int l = 0; l < dim; ++l) {
       const double w = face_weight_[l];
       for (int up = 0; up < 2; ++up) {
-        const int f = cell_faces_[l][2 * c + up];
-        const auto [cm, cp] = face_cells_[l][f];
+        const int f = faces_.of_cell(l, c, up);
+        const auto [cm, cp] = faces_.cells(l, f);
         const int o = up ? cp : cm;
         State star;
         State& slot = sweep.stars[l][sweep.slot[l]];  // o = c - stride_l shares it
-        if (!up && o == c - stride_[l] && o >= sweep.begin && occupied(o)) {
+        if (!up && o == c - faces_.stride(l) && o >= sweep.begin && occupied(o)) {
           star = slot;  // solved by o, as its upper face, just before
         } else if constexpr (scheme == FluxScheme::ctu) {
           star = star_[l].col(f) + transverse_correction(l, f, fluctuation_);
@@ -502,12 +502,6 @@ class DGOperator {
     }
   }
 
-  struct FaceCondition {
-    BoundaryKind kind = BoundaryKind::free;
-    int begin = 0, end = 0;  // parts_[begin, end): (time table, covered fraction)
-  };
-  using Table = TimeTable<dim>;
-
   double edge_length(int l) const {
     return face_weight_[l] * face_nodes;
   }
@@ -529,99 +523,6 @@ class DGOperator {
     }
   }
 
-  // Faces normal to axis l, indexed like cells but with cells[l] + 1 positions along l on a
-  // non-periodic axis: face k lies between cell k - e_l (minus) and cell k (plus).
-  void tabulate_faces(int l, const Boundaries<dim>& boundaries) {
-    std::array<int, dim> extent = grid_.cells;
-    if (!grid_.periodic[l]) extent[l] += 1;
-    int count = 1;
-    for (int k = 0; k < dim; ++k) count *= extent[k];
-    face_cells_[l].resize(count);
-    face_boundary_[l].clear();
-    cell_faces_[l].resize(2 * static_cast<std::size_t>(grid_.num_cells()));
-    for (int f = 0; f < count; ++f) {
-      typename Grid<dim>::Index k{};
-      int rest = f;
-      for (int a = 0; a < dim; ++a) {
-        k[a] = rest % extent[a];
-        rest /= extent[a];
-      }
-      int plus = -1, minus = -1;
-      if (k[l] < grid_.cells[l]) {
-        plus = grid_.flatten(k);
-        cell_faces_[l][2 * plus] = f;
-        minus = grid_.neighbour(plus, l, 0);
-      } else {
-        auto km = k;
-        km[l] -= 1;
-        minus = grid_.flatten(km);
-      }
-      if (minus >= 0) cell_faces_[l][2 * minus + 1] = f;
-      face_cells_[l][f] = {minus, plus};
-      if (minus < 0 || plus < 0) resolve_condition(l, minus < 0 ? 0 : 1, k, boundaries, f);
-    }
-  }
-
-  // The condition of a boundary edge: the segment covering its midpoint, unless that is a
-  // traction or nothing: then the tractions of all segments covering part of the edge, each
-  // times its covered fraction (the applied force is exact), or free.
-  void resolve_condition(int l, int side, const typename Grid<dim>::Index& k,
-                         const Boundaries<dim>& boundaries, int f) {
-    const BoundarySide<dim>& bs = boundaries[l][side];
-    Vec lo, hi;
-    for (int a = 0; a < dim; ++a) {
-      lo[a] = grid_.origin[a] + (grid_.first[a] + k[a]) * grid_.cell_size[a];
-      hi[a] = lo[a] + grid_.cell_size[a];
-    }
-    const Vec mid = 0.5 * (lo + hi);
-    FaceCondition fc;
-    fc.begin = fc.end = static_cast<int>(parts_.size());
-    const BoundaryCondition<dim>* at_mid = bs.at(mid, l);
-    if (at_mid && at_mid->kind != BoundaryKind::traction) {
-      fc.kind = at_mid->kind;
-      parts_.emplace_back(&at_mid->value, 1.0);
-    } else {
-      for (const auto& s : bs.segments) {
-        if (s.condition.kind != BoundaryKind::traction) continue;
-        double fraction = 1.0;
-        for (int a = 0; a < dim; ++a) {
-          if (a == l) continue;
-          const double overlap = std::min(s.hi[a], hi[a]) - std::max(s.lo[a], lo[a]);
-          fraction *= std::max(0.0, overlap) / grid_.cell_size[a];
-        }
-        if (fraction <= 0.0) continue;
-        fc.kind = BoundaryKind::traction;
-        parts_.emplace_back(&s.condition.value, fraction);
-      }
-    }
-    fc.end = static_cast<int>(parts_.size());
-    face_boundary_[l].emplace_back(f, static_cast<int>(conditions_.size()));  // f increases
-    conditions_.push_back(fc);
-    if (fc.kind == BoundaryKind::traction || fc.kind == BoundaryKind::velocity)
-      loaded_faces_.emplace_back(l, f);
-  }
-
-  Vec condition_value(const FaceCondition& fc, double t) const {
-    Vec v = Vec::Zero();
-    for (int i = fc.begin; i < fc.end; ++i) v += parts_[i].second * (*parts_[i].first)(t);
-    return v;
-  }
-
-  // Index into conditions_ of face f along l, -1 if it is not on a grid side (a search: only
-  // boundary faces ask).
-  int boundary_condition(int l, int f) const {
-    const auto& faces = face_boundary_[l];
-    const auto it = std::lower_bound(faces.begin(), faces.end(), std::pair{f, -1});
-    return it != faces.end() && it->first == f ? it->second : -1;
-  }
-
-  // Kind of the boundary that face f is for its occupied side: the grid side's condition, or a
-  // free surface against a void cell.
-  BoundaryKind mirror_kind(int l, int f) const {
-    const int b = boundary_condition(l, f);
-    return b >= 0 ? conditions_[b].kind : BoundaryKind::free;
-  }
-
   // Average of a cell's nodal states (its npc columns) on its `side` along axis l.
   template <class Block>
   static State edge_average(const Block& q, int l, int side) {
@@ -637,9 +538,9 @@ class DGOperator {
   // Star state of boundary face f (grid side or void neighbour) from the inside edge state q of
   // the occupied cell, on its plus side (side 1: the face is its upper one) or minus side.
   State boundary_star(int l, int f, const State& q, const Material& mat, int side, double t) const {
-    const int b = boundary_condition(l, f);
-    const BoundaryKind kind = b >= 0 ? conditions_[b].kind : BoundaryKind::free;
-    const Vec value = b >= 0 ? condition_value(conditions_[b], t) : Vec::Zero();
+    const auto* condition = boundary_.at(l, f);
+    const BoundaryKind kind = condition ? condition->kind : BoundaryKind::free;
+    const Vec value = condition ? boundary_.value(*condition, t) : Vec::Zero();
     if constexpr (physics::DirectBoundary<Physics>) {
       return Physics::boundary_star(kind, value, l, q, mat, side);
     } else {
@@ -656,7 +557,7 @@ class DGOperator {
   // and the plus cell's lower edge, nullptr for a side without particles (not both).
   [[gnu::always_inline]] inline State star_of(int l, int f, const State* minus, const State* plus,
                                               double t) const {
-    const auto [cm, cp] = face_cells_[l][f];
+    const auto [cm, cp] = faces_.cells(l, f);
     if (minus && plus)
       return Physics::riemann(l, *minus, disc_.cell_material(cm), *plus, disc_.cell_material(cp));
     if (minus) return boundary_star(l, f, *minus, disc_.cell_material(cm), 1, t);
@@ -667,19 +568,13 @@ class DGOperator {
   const Disc& disc_;
   FluxScheme scheme_;
   Eigen::Matrix<double, dim, 1> face_weight_;
-  std::array<std::vector<std::pair<int, int>>, dim> face_cells_;  // (minus, plus), -1 outside
-  std::array<std::vector<int>, dim> cell_faces_;                  // [2 c + side] -> face
-  // The grid sides' faces of each axis, by increasing face: (face, index into conditions_).
-  std::array<std::vector<std::pair<int, int>>, dim> face_boundary_;
-  std::vector<FaceCondition> conditions_;
-  std::vector<std::pair<const Table*, double>> parts_;
-  std::vector<std::pair<int, int>> loaded_faces_;  // (axis, face) under traction or velocity
+  FaceTopology<dim> faces_;
+  BoundaryFaces<dim> boundary_;
   // CTU only: star states of the faces of each axis and the fluctuations entering their sides
   // (column 2 f: into the minus cell, 2 f + 1: into the plus cell).
   mutable std::array<NodalField, dim> star_;
   mutable FaceFluctuations fluctuation_;
-  // Fused stages: cell index stride along each axis, and each thread's upper-face star states.
-  std::array<int, dim> stride_{};
+  // Fused stages: each thread's upper-face star states.
   mutable std::vector<State> star_cache_;
 };
 
