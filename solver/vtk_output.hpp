@@ -144,8 +144,8 @@ std::vector<PointData> point_data(const ParticleSet& particles,
                                    Physics::dim, "m"));
   if (exact) fields(*exact, "exact_");
   // Per unit thickness in 2D (kg/m, m^2), per unit cross-section in 1D (kg/m^2, m).
-  const char* per_length = Physics::dim == 1 ? "kg/m^2" : "kg/m";
-  PointData mass{"mass", 1, {}, per_length},
+  const char* mass_unit = Physics::dim == 1 ? "kg/m^2" : "kg/m";
+  PointData mass{"mass", 1, {}, mass_unit},
       volume{"volume", 1, {}, Physics::dim == 1 ? "m" : "m^2"}, size{"size", 1, {}, "m"},
       id{"id", 1, {}, ""}, mat{"material", 1, {}, ""};
   for (int i = 0; i < particles.size(); ++i) {
