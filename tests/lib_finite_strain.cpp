@@ -6,7 +6,8 @@
 // (2 and 20 GPa; plateau means of F - 1, P and v within 1e-3, shock within two cells), the
 // compression fan (-20 GPa; L1 error of F falling with the cell size), the neo-Hookean impact at
 // +-100 m/s; at a small load, the plateaus against small strain by the laws' leading terms;
-// energy never above the initial energy plus the work of the load.
+// energy never above the initial energy plus the work of the load; a compression past SVK's
+// hyperbolic range stops the steps.
 #define BOOST_TEST_MODULE finite_strain
 #include <boost/test/unit_test.hpp>
 
@@ -387,4 +388,30 @@ BOOST_AUTO_TEST_CASE(small_loads_differ_from_small_strain_by_the_leading_terms) 
                                                             << " (neo-Hookean)");
   BOOST_TEST(svk_term == -1.5, boost::test_tools::tolerance(0.005));
   BOOST_TEST(nh_term == 14 * mu / (9 * M), boost::test_tools::tolerance(0.005));
+}
+
+// SVK's nominal stress in compression is smallest at F = 1/sqrt(3), -M / (3 sqrt(3)) = -5.18e10 Pa:
+// a load beyond it drives F past the loss of hyperbolicity, where the tangent impedance is NaN,
+// and the step says so (it returns false: the solver stops there) rather than going on.
+BOOST_AUTO_TEST_CASE(a_compression_past_svk_hyperbolic_range_stops_the_steps) {
+  const double weakest = -M / (3 * std::sqrt(3.0));
+  BOOST_TEST(SVK::nominal_stress(1 / std::sqrt(3.0), SVK::Material(E, nu, rho0)) == weakest,
+             boost::test_tools::tolerance(1e-12));
+  HalfSpace<SVK> half(300, 3.0, 1.2 * weakest);
+  Stepper<SVK> stepper(half.grid, half.boundaries, StepperOptions{});
+  stepper.rebuild(half.particles, half.materials);
+  const double dt = 0.5 * 0.01 / std::sqrt(M / rho0);
+  int steps = 0;
+  bool finite = true;
+  while (finite && steps < 1000)
+    finite = stepper.step(half.particles, half.materials, steps++ * dt, dt);
+  BOOST_TEST(!finite);
+  BOOST_TEST_MESSAGE("a load of 1.2 times SVK's weakest compression: non-finite at step " << steps);
+  // And a load just within it runs: F stays above 1/sqrt(3).
+  HalfSpace<SVK> within(300, 3.0, 0.9 * weakest);
+  Stepper<SVK> second(within.grid, within.boundaries, StepperOptions{});
+  second.rebuild(within.particles, within.materials);
+  for (int s = 0; s < 200; ++s)
+    BOOST_REQUIRE(second.step(within.particles, within.materials, s * dt, dt));
+  BOOST_TEST(within.particles.state.row(0).minCoeff() * rho0 > 1 / std::sqrt(3.0));
 }
