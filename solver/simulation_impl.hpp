@@ -690,11 +690,14 @@ int Simulation<Physics>::copy_earlier_outputs(const std::string& directory) cons
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(restored_directory_, ec)) {
     const std::string name = e.path().filename().string();
+    // particles_NNN.EXT or particles_NNN_rR.vtu with NNN before the checkpoint's outputs (the
+    // whole number: output 1000 is not output 100's).
     bool earlier = name == "energy.csv";
-    for (std::size_t k = 0; !earlier && k < progress_.outputs; ++k) {
-      char stem[32];
-      std::snprintf(stem, sizeof stem, "particles_%03zu", k);
-      earlier = name.rfind(stem, 0) == 0;
+    if (!earlier && name.rfind("particles_", 0) == 0) {
+      const std::size_t digits = name.find_first_not_of("0123456789", 10);
+      if (digits != std::string::npos && digits > 10 &&
+          (name[digits] == '.' || name[digits] == '_'))
+        earlier = std::stoul(name.substr(10, digits - 10)) < progress_.outputs;
     }
     if (!earlier) continue;
     fs::copy_file(e.path(), fs::path(directory) / name, fs::copy_options::overwrite_existing, ec);
