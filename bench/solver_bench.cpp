@@ -108,7 +108,8 @@ void print_time_step_cost(std::ostream& out, const std::vector<AutoRun>& runs, d
     TimeStepControl<ElasticBar> control(scene, problem.max_wave_speed());
     double dt = 0;
     const double dts = best_calls_per_second(
-        [&] { dt = control.time_step(problem.grid, disc, problem.particles); }, seconds);
+        [&] { dt = control.time_step(problem.grid, disc, problem.particles, problem.materials); },
+        seconds);
     const auto ns = [n](double per_second) { return 1e9 / (per_second * n); };
     out << std::setw(5) << run.ppc << std::setw(12) << run.particles << std::fixed
         << std::setprecision(2) << std::setw(12) << ns(rebuilds) << std::setw(18) << ns(dts)

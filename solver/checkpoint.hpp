@@ -16,8 +16,9 @@
 namespace dgmpm::checkpoint {
 
 // 2: initial positions only for moving particles with an exact solution; 3: for all moving
-// particles (their displacement is an output).
-inline constexpr int kFormat = 3;
+// particles (their displacement is an output); 4: the range of Courant numbers run and the
+// largest wave speed (finite strain: they change with the state).
+inline constexpr int kFormat = 4;
 
 struct File {
   nlohmann::json header;

@@ -29,13 +29,30 @@ UniaxialStrainPlastic::Material material_of(const scene::MaterialSpec& m, Uniaxi
 PlaneStrain::Material material_of(const scene::MaterialSpec& m, PlaneStrain*) {
   return {m.young, m.poisson, m.density};
 }
+template <class Law>
+typename FiniteStrainBar<Law>::Material material_of(const scene::MaterialSpec& m,
+                                                    FiniteStrainBar<Law>*) {
+  return {m.young, m.poisson, m.density};
+}
 
-ElasticBar::State initial_state(const scene::BodySpec& b, const ElasticBar::Material& m) {
+// The initial specific state of a body's particles (the tag picks the physics' own, if any).
+ElasticBar::State initial_state(const scene::BodySpec& b, const ElasticBar::Material& m,
+                                const void*) {
   return ElasticBar::specific(b.stress[0], b.velocity[0], m);
 }
-PlaneStrain::State initial_state(const scene::BodySpec& b, const PlaneStrain::Material& m) {
+PlaneStrain::State initial_state(const scene::BodySpec& b, const PlaneStrain::Material& m,
+                                 const void*) {
   return PlaneStrain::specific(Eigen::Vector3d(b.stress[0], b.stress[1], b.stress[2]),
                                PlaneStrain::Vec(b.velocity[0], b.velocity[1]), m);
+}
+
+// Unstrained (F = 1) unless the body gives its deformation gradient.
+template <class Law>
+typename FiniteStrainBar<Law>::State initial_state(const scene::BodySpec& b,
+                                                   const typename FiniteStrainBar<Law>::Material& m,
+                                                   FiniteStrainBar<Law>*) {
+  const double f = b.deformation_gradient.empty() ? 1.0 : b.deformation_gradient[0];
+  return FiniteStrainBar<Law>::specific(f, b.velocity[0], m);
 }
 
 template <int Dim>
@@ -112,6 +129,9 @@ void set_exact(const scene::Scene& scene, Problem<UniaxialStrainPlastic>&) {
                             ": exact: value \"bar\" cannot be used here: the exact bar solution "
                             "is in uniaxial stress and the scene in uniaxial strain");
 }
+
+template <class Law>
+void set_exact(const scene::Scene&, Problem<FiniteStrainBar<Law>>&) {}  // refused by the parser
 
 void set_exact(const scene::Scene& scene, Problem<PlaneStrainPlastic>&) {
   if (scene.plane_wave || scene.exact)
@@ -193,7 +213,7 @@ void add_body_particles(const scene::Scene& scene, std::size_t body_index,
   const double largest = *std::max_element(w.begin(), w.end());
   for (double& x : w) x /= largest;
   const double wsum = std::accumulate(w.begin(), w.end(), 0.0);
-  const auto state = initial_state(body, mat);
+  const auto state = initial_state(body, mat, static_cast<Physics*>(nullptr));
   const std::vector<scene::Seed> seeds = scene::body_seeds(scene, body_index);
   const int first = particles.size(), n = first + static_cast<int>(seeds.size());
   particles.resize(n, true);
@@ -276,5 +296,9 @@ template Problem<ElastoPlasticBar> make_problem<ElastoPlasticBar>(const scene::S
 template Problem<PlaneStrain> make_problem<PlaneStrain>(const scene::Scene&);
 template Problem<PlaneStrainPlastic> make_problem<PlaneStrainPlastic>(const scene::Scene&);
 template Problem<UniaxialStrainPlastic> make_problem<UniaxialStrainPlastic>(const scene::Scene&);
+template Problem<FiniteStrainBar<SaintVenantKirchhoff>>
+make_problem<FiniteStrainBar<SaintVenantKirchhoff>>(const scene::Scene&);
+template Problem<FiniteStrainBar<NeoHookean>>
+make_problem<FiniteStrainBar<NeoHookean>>(const scene::Scene&);
 
 }  // namespace dgmpm

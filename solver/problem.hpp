@@ -8,8 +8,10 @@
 #include <dgmpm/boundary.hpp>
 #include <dgmpm/grid.hpp>
 #include <dgmpm/particles.hpp>
+#include <dgmpm/physics/contract.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/physics/elastoplastic_bar.hpp>
+#include <dgmpm/physics/finite_strain_bar.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 #include <dgmpm/physics/plane_strain_plastic.hpp>
 #include <dgmpm/physics/uniaxial_strain_plastic.hpp>
@@ -35,11 +37,17 @@ struct Problem {
   // The impedance that relates the exact solution's stress and velocity scales.
   double exact_impedance = 1.0;
 
-  // Largest wave speed among the materials the particles carry.
+  // Largest wave speed among the materials the particles carry (at the particles' states where
+  // the speeds change with the state).
   double max_wave_speed() const {
     double c = 0;
-    for (int p = 0; p < particles.size(); ++p)
-      c = std::max(c, Physics::max_wave_speed(materials[particles.material[p]]));
+    for (int p = 0; p < particles.size(); ++p) {
+      const auto& m = materials[particles.material[p]];
+      if constexpr (physics::StateDependentSpeed<Physics>)
+        c = std::max(c, Physics::state_wave_speed(particles.state.col(p), m));
+      else
+        c = std::max(c, Physics::max_wave_speed(m));
+    }
     return c;
   }
 };
@@ -54,13 +62,19 @@ Problem<Physics> make_problem(const scene::Scene& scene);
 // The one place where a scene's dimension, strain state and material models pick its physics:
 // returns f(std::type_identity<Physics>{}) for the scene's physics (1D: ElasticBar, or
 // ElastoPlasticBar when a material yields, UniaxialStrainPlastic for "strain":
-// "uniaxial_strain"; 2D: PlaneStrain, or PlaneStrainPlastic when a material yields).
+// "uniaxial_strain", FiniteStrainBar with the scene's hyperelastic law; 2D: PlaneStrain, or
+// PlaneStrainPlastic when a material yields). The parser has refused scenes that mix finite and
+// small strain, or two laws.
 template <class F>
 decltype(auto) with_physics(const scene::Scene& scene, F&& f) {
   bool plastic = false;
   for (const auto& m : scene.materials) plastic = plastic || m.plastic();
+  const std::string& model = scene.materials.front().model;
   switch (scene.dimension) {
     case 1:
+      if (model == "saint_venant_kirchhoff")
+        return f(std::type_identity<FiniteStrainBar<SaintVenantKirchhoff>>{});
+      if (model == "neo_hookean") return f(std::type_identity<FiniteStrainBar<NeoHookean>>{});
       if (scene.uniaxial_strain) return f(std::type_identity<UniaxialStrainPlastic>{});
       if (plastic) return f(std::type_identity<ElastoPlasticBar>{});
       return f(std::type_identity<ElasticBar>{});

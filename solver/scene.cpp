@@ -1,5 +1,7 @@
 #include "solver/scene.hpp"
 
+#include <dgmpm/physics/finite_strain_bar.hpp>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -255,6 +257,7 @@ class Parser {
     s.output.vtu = s.output.vtu_binary = s.dimension > 1;
     if (const json* o = find(doc, "output")) parse_output(*o, s);
     check_double_range(s, doc);
+    check_finite_strain(s, doc);
     return s;
   }
 
@@ -313,6 +316,106 @@ class Parser {
       refuse("grid.cell_size", doc["grid"]["cell_size"],
              "gives a time step of " + number_text(dt) + " s, not a normal double",
              "cell sizes whose time step c dt / h = C is a normal double (above 2.2e-308 s)");
+  }
+
+  // Finite-strain materials (1D DGMPM so far): one hyperelastic law for the whole scene, bodies
+  // given a deformation gradient rather than a stress, states inside the law's hyperbolic range.
+  void check_finite_strain(Scene& s, const json& doc) const {
+    const MaterialSpec* finite = nullptr;
+    const MaterialSpec* small = nullptr;
+    for (const MaterialSpec& m : s.materials) (m.finite_strain() ? finite : small) = &m;
+    const auto material_path = [](const MaterialSpec& m) {
+      return key_path(key_path("materials", m.name), "model");
+    };
+    if (!finite) {
+      for (std::size_t i = 0; i < s.bodies.size(); ++i)
+        if (!s.bodies[i].deformation_gradient.empty())
+          refuse(key_path(index_path("bodies", i), "deformation_gradient"),
+                 doc["bodies"][i]["deformation_gradient"],
+                 "is a finite-strain key and material \"" + s.materials[s.bodies[i].material].name +
+                     "\" is small-strain",
+                 "deformation_gradient with \"saint_venant_kirchhoff\" or \"neo_hookean\"");
+      return;
+    }
+    const json& model = doc["materials"][finite->name]["model"];
+    if (small)
+      refuse(material_path(*finite), model,
+             "mixes finite strain with the small-strain material \"" + small->name +
+                 "\" (model \"" + small->model +
+                 "\"): the two measure strain and stress differently, and no edge state joins them",
+             "every material of a scene finite-strain, or none");
+    for (const MaterialSpec& m : s.materials)
+      if (m.model != finite->model)
+        refuse(material_path(m), doc["materials"][m.name]["model"],
+               "is a second hyperelastic law beside \"" + finite->model + "\" of material \"" +
+                   finite->name + "\"",
+               "one law per scene (materials may differ in young, poisson and density)");
+    const std::string fs = "with finite-strain material \"" + finite->name + "\"";
+    if (s.dimension != 1)
+      refuse(material_path(*finite), model, "is not available in 2D yet", "1D scenes");
+    if (s.method != Method::dgmpm)
+      refuse("method", doc["method"], "has no finite strain yet (" + fs.substr(5) + ")",
+             "\"dgmpm\"");
+    if (s.particles_move)
+      refuse("particles_move", doc["particles_move"],
+             "is not allowed " + fs +
+                 ": the formulation is total Lagrangian, particles stay at their reference "
+                 "positions and carry their displacement (outputs give the current positions)",
+             "false");
+    if (const json* k = find(doc, "strain"); k && !s.uniaxial_strain)
+      refuse("strain", *k, "is not allowed " + fs + ": 1D finite strain is uniaxial strain",
+             "\"uniaxial_strain\" or no strain key");
+    if (s.exact)
+      refuse("exact", doc["exact"], "is not available " + fs + " (the exact bar is small-strain)",
+             "no exact key (the finite-strain tests compute their exact solutions)");
+    if (s.time.courant_auto && !doc["time"].contains("safety")) s.time.safety = kFiniteStrainSafety;
+    // The hyperbolic range of each material: F above lowest_f, nominal stresses above lowest_p.
+    const auto law = [&](const MaterialSpec& m, auto&& f) {
+      const LameModuli k = LameModuli::from_young(m.young, m.poisson);
+      if (m.model == "saint_venant_kirchhoff") return f(SaintVenantKirchhoff{}, k);
+      return f(NeoHookean{}, k);
+    };
+    const auto lowest_f = [&](const MaterialSpec& m) {
+      return law(m, [](auto l, const LameModuli&) { return l.uniaxial_lowest_f(); });
+    };
+    const auto lowest_p = [&](const MaterialSpec& m) {
+      return law(m, [](auto l, const LameModuli& k) {
+        const double f = l.uniaxial_lowest_f();
+        return f > 0 ? l.uniaxial_stress(f, k) : -std::numeric_limits<double>::infinity();
+      });
+    };
+    for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+      const BodySpec& b = s.bodies[i];
+      const MaterialSpec& m = s.materials[b.material];
+      const std::string path = index_path("bodies", i);
+      for (double x : b.stress)
+        if (x != 0)
+          refuse(key_path(path, "stress"), doc["bodies"][i]["stress"],
+                 "is not allowed " + fs + ": its bodies start from a deformation gradient",
+                 "deformation_gradient (the nominal stress follows from it), or no stress key");
+      const double lo = lowest_f(m);
+      if (!b.deformation_gradient.empty() && !(b.deformation_gradient[0] > lo))
+        refuse(key_path(path, "deformation_gradient"), doc["bodies"][i]["deformation_gradient"],
+               "is outside the hyperbolic range of \"" + m.model + "\" (material \"" + m.name +
+                   "\")",
+               "F_xx > " + number_text(lo) +
+                   (lo > 0 ? " (the longitudinal tangent dP/dF vanishes at 1/sqrt(3))" : ""));
+    }
+    // A traction no state of the law reaches would compress past the range at the loaded edge.
+    double lowest = -std::numeric_limits<double>::infinity();
+    const MaterialSpec* limiting = nullptr;
+    for (const MaterialSpec& m : s.materials)
+      if (const double p = lowest_p(m); p > lowest) lowest = p, limiting = &m;
+    for (int side = 0; side < 2 && limiting; ++side)
+      for (const BoundarySpec& b : s.boundaries[0][side])
+        if (b.kind == BoundaryKind::traction)
+          for (double p : b.values)
+            if (!(p > lowest))
+              refuse(key_path("boundaries", side_keys[side]), doc["boundaries"][side_keys[side]],
+                     "prescribes a nominal stress " + number_text(p) + " Pa that \"" +
+                         limiting->model + "\" (material \"" + limiting->name +
+                         "\") reaches only past its hyperbolic range",
+                     "nominal stresses above " + number_text(lowest) + " Pa (P at F = 1/sqrt(3))");
   }
 
   static std::string number_text(double x) {
@@ -493,11 +596,14 @@ class Parser {
       MaterialSpec mat;
       mat.name = it.key();
       if (const json* model = find(v, "model")) {
-        const int kind =
-            choice<int>(*model, key_path(path, "model"),
-                        {{"linear_elastic", 0}, {"elastoplastic", 1}, {"elasto_viscoplastic", 2}});
+        const int kind = choice<int>(*model, key_path(path, "model"),
+                                     {{"linear_elastic", 0},
+                                      {"elastoplastic", 1},
+                                      {"elasto_viscoplastic", 2},
+                                      {"saint_venant_kirchhoff", 3},
+                                      {"neo_hookean", 4}});
         mat.model = model->get<std::string>();
-        if (kind == 0) check_object(v, path, {"model", "young", "poisson", "density"});
+        if (kind == 0 || kind >= 3) check_object(v, path, {"model", "young", "poisson", "density"});
         if (kind == 1)
           check_object(v, path,
                        {"model", "young", "poisson", "density", "yield_stress",
@@ -507,7 +613,7 @@ class Parser {
                        {"model", "young", "poisson", "density", "yield_stress",
                         "isotropic_hardening", "kinematic_hardening", "relaxation_time",
                         "rate_exponent"});
-        if (kind > 0) mat.flow = parse_flow(v, path, kind == 2);
+        if (kind == 1 || kind == 2) mat.flow = parse_flow(v, path, kind == 2);
       } else {
         check_object(v, path, {"model", "young", "poisson", "density"});
       }
@@ -639,7 +745,7 @@ class Parser {
   BodySpec parse_body(const json& b, const std::string& path, const Scene& s) const {
     check_object(b, path,
                  {"material", "box", "particles_per_cell", "positions_in_cell", "masses_in_cell",
-                  "velocity", "stress"});
+                  "velocity", "stress", "deformation_gradient"});
     BodySpec body;
     const auto n = static_cast<std::size_t>(s.dimension);
     const std::string per_axis = "one per axis, dimension " + std::to_string(s.dimension);
@@ -760,6 +866,12 @@ class Parser {
     if (const json* st = find(b, "stress"))
       body.stress = numbers(*st, key_path(path, "stress"), ns,
                             s.dimension == 1 ? "sigma" : "independent stress components");
+    if (const json* f = find(b, "deformation_gradient")) {
+      if (s.dimension != 1)
+        refuse(key_path(path, "deformation_gradient"), *f, "is not available in 2D yet",
+               "1D scenes ([F_xx])");
+      body.deformation_gradient = numbers(*f, key_path(path, "deformation_gradient"), 1, "[F_xx]");
+    }
     return body;
   }
 

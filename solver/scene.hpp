@@ -40,10 +40,13 @@ struct GridSpec {
 
 struct MaterialSpec {
   std::string name;
-  std::string model = "linear_elastic";  // or "elastoplastic", "elasto_viscoplastic"
+  // or "elastoplastic", "elasto_viscoplastic" (small strain), "saint_venant_kirchhoff",
+  // "neo_hookean" (finite strain: density is the reference density rho0)
+  std::string model = "linear_elastic";
   double young = 0, poisson = 0, density = 0;
   PlasticFlow flow;  // plastic models: yield stress (infinite for linear_elastic), hardening
-  bool plastic() const { return model != "linear_elastic"; }
+  bool plastic() const { return model == "elastoplastic" || model == "elasto_viscoplastic"; }
+  bool finite_strain() const { return model == "saint_venant_kirchhoff" || model == "neo_hookean"; }
 };
 
 struct BodySpec {
@@ -55,6 +58,8 @@ struct BodySpec {
   std::vector<double> masses_in_cell;  // relative weights, one per particle; equal by default
   std::vector<double> velocity;        // dimension entries
   std::vector<double> stress;          // 1D: [sigma]; 2D: [sigma_xx, sigma_yy, sigma_xy]
+  // Finite strain: the initial deformation gradient (1D: [F_xx]); empty: unstrained.
+  std::vector<double> deformation_gradient;
 };
 
 // One condition on a side, or on the segment [range_lo, range_hi] of it (2D: metres along the

@@ -6,6 +6,9 @@ namespace dgmpm {
 extern template class Simulation<ElastoPlasticBar>;
 extern template class Simulation<PlaneStrainPlastic>;
 extern template class Simulation<UniaxialStrainPlastic>;
+// Instantiated in simulation_finite_strain.cpp.
+extern template class Simulation<FiniteStrainBar<SaintVenantKirchhoff>>;
+extern template class Simulation<FiniteStrainBar<NeoHookean>>;
 
 StepperOptions stepper_options(const scene::Scene& scene) {
   return {scene.time.integrator, scene.flux, scene.formulation};

@@ -6,6 +6,7 @@
 
 #include "solver/communicator.hpp"
 #include "solver/halo.hpp"
+#include "solver/mpm.hpp"
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
 #include "solver/time_step_control.hpp"
@@ -24,9 +25,6 @@
 #include <vector>
 
 namespace dgmpm {
-
-template <class Physics>
-class Mpm;
 
 struct ErrorNorms {
   double l1 = 0, l2 = 0, max = 0;  // relative, see relative_errors()
@@ -165,6 +163,8 @@ class Simulation final : public SimulationBase {
   };
   static_assert(physics::HasEnergy<Physics>, "the solver reports the particles' energy");
   static constexpr bool dissipative = physics::Dissipative<Physics>;
+  // Wave speeds that change with the state (finite strain): a new time step every step.
+  static constexpr bool state_dependent_speed = physics::StateDependentSpeed<Physics>;
   // Output columns the physics derives from a particle (none for elastic physics).
   static constexpr int derived_count = [] {
     if constexpr (physics::DerivedOutputs<Physics>)
@@ -197,6 +197,8 @@ class Simulation final : public SimulationBase {
   void warn_if_overfull_cell(long step, double t);
   // time.check_scene_every: halves dt_ until the frozen scene's spectral radius is at most 1.
   void check_scene(long step, double t);
+  void choose_time_step(long step, double t);
+  void check_hyperbolic(long step, double t) const requires state_dependent_speed;
   double load_power() const;
   void write_particles(const std::string& path) const;
   void write_vtu(std::size_t k, const std::string& directory, const std::string& name) const;
@@ -242,6 +244,7 @@ class Simulation final : public SimulationBase {
     std::vector<std::string> files;                      // particle files written (names)
     std::vector<std::string> checkpoints;                // kept checkpoint files (names)
     double dt_min = 0, dt_max = 0;                       // of the controlled steps
+    double courant_min = 0, courant_max = 0;             // c_max dt / h of the same
     std::uint64_t history_bytes = 0, history_hash = 0;   // energy.csv at the checkpoint
     long checkpoint_step = -1;                           // step of the last checkpoint
   };
@@ -253,11 +256,15 @@ class Simulation final : public SimulationBase {
   scene::Scene scene_;
   Problem<Physics> problem_;
   std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
-  std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
+  std::unique_ptr<MpmOf<Physics>> mpm_;        // MPM baseline
   std::unique_ptr<Halo<ParticleSet>> halo_;    // distributed runs
   int total_particles_ = 0, total_cells_ = 0;
   double setup_seconds_ = 0;  // the constructor's wall time
-  double max_speed_ = 0;      // of the materials the particles carry
+  // Of the materials the particles carry (at their current states where speeds change with the
+  // state), and its value at the start of the last step.
+  double max_speed_ = 0, step_speed_ = 0;
+  double cell_size() const { return problem_.grid.cell_size.minCoeff(); }
+  double courant_per_dt() const { return max_speed_ / cell_size(); }
   std::optional<TimeStepControl<Physics>> time_control_;
   std::vector<std::string> warnings_;
   double time_ = 0, dt_ = 0, work_ = 0, power_ = 0;

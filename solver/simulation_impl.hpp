@@ -113,7 +113,8 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
                                                   stepper_options(scene_));
     stepper_->rebuild(problem_.particles, problem_.materials);
     time_control_.emplace(scene_, max_speed_);
-    dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles);
+    dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles,
+                                   problem_.materials);
     if (!time_control_->automatic()) warn_if_above_admissible();
     if (dim > 1 && time_control_->automatic() && scene_.particles_move) {
       const int cell = time_control_->first_cell_past_the_lattice(stepper_->discretisation(),
@@ -145,8 +146,8 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
                               scene::to_string(scene_.method) +
                               "\"; allowed: a positive number (the stability analysis is DGMPM's)");
     dt_ = scene_.time.courant * h / problem_.max_wave_speed();
-    mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
-                                          mpm_variant(scene_.method), scene_.update);
+    mpm_ = std::make_unique<MpmOf<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
+                                            mpm_variant(scene_.method), scene_.update);
   }
   warn_about_untouched_loads();
   if (ranks && ranks->size() > 1) distribute(*ranks);
@@ -244,6 +245,19 @@ void Simulation<Physics>::warn_if_above_admissible() {
     }
   }
   const auto limit = time_control_->smallest_admissible(disc, problem_.particles);
+  if constexpr (state_dependent_speed) {
+    const double safe = kFiniteStrainSafety * limit.courant;
+    if (scene_.time.courant > safe * (1 + 1e-9) && scene_.time.courant <= limit.courant) {
+      std::ostringstream s;
+      s << "Courant number " << scene_.time.courant << " is above " << kFiniteStrainSafety
+        << " times the admissible " << std::setprecision(6) << limit.courant
+        << ": with finite strain a step chosen with the speeds at its start can gain energy at "
+           "shocks (the state behind moves faster), and the energy may exceed the initial energy "
+           "plus the loads' work (\"auto\" uses "
+        << safe << ")";
+      warnings_.push_back(s.str());
+    }
+  }
   if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
   std::ostringstream s;
   s << "Courant number " << scene_.time.courant << " is above the admissible "
@@ -307,9 +321,58 @@ double Simulation<Physics>::load_power() const {
   return power;
 }
 
+// The step for the particles' current layouts and states (check_scene's factor or check applied
+// to an automatic one). A state past the hyperbolic range stops the run, naming its particle.
+template <class Physics>
+void Simulation<Physics>::choose_time_step(long step, double t) {
+  dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles,
+                                 problem_.materials);
+  if constexpr (state_dependent_speed) {
+    check_hyperbolic(step, t);
+    max_speed_ = time_control_->fastest_speed();
+    if (halo_) max_speed_ = -halo_->comm().min(-max_speed_);
+  }
+  if (halo_) dt_ = halo_->comm().min(dt_);  // every cell is some rank's: exact
+  if (!time_control_->automatic()) return;
+  const long every = scene_.time.check_scene_every;
+  if (every > 0 && step % every == 0)
+    check_scene(step, t);
+  else
+    dt_ *= scene_guard_factor_;
+}
+
+// After time_step returned NaN on some rank: the owned particle whose state has no real wave
+// speed (its acoustic tensor is not positive definite), with its state.
+template <class Physics>
+void Simulation<Physics>::check_hyperbolic(long step,
+                                           double t) const requires state_dependent_speed {
+  const bool here = std::isnan(dt_);
+  if (!(halo_ ? halo_->comm().min(here ? 0.0 : 1.0) == 0.0 : here)) return;
+  const auto& p = problem_.particles;
+  for (int i = 0; i < owned_particles(); ++i) {
+    const auto& m = problem_.materials[p.material[i]];
+    if (Physics::state_wave_speed(p.state.col(i), m) >= 0) continue;
+    const typename Physics::State s = Physics::physical(p.state.col(i), m);
+    Eigen::Matrix<double, dim, 1> xi;
+    std::ostringstream o;
+    o << format_step(step, t) << ": particle " << p.id[i]
+      << " has left its material's hyperbolic range (its acoustic tensor is not positive "
+         "definite: no real wave speed) at X = "
+      << p.position.col(i).transpose() << " (cell " << full_grid().locate(p.position.col(i), xi)
+      << ") with ";
+    for (int k = 0; k < ncomp; ++k)
+      o << (k ? ", " : "") << Physics::state_names[k] << " = " << std::setprecision(9) << s[k];
+    o << "; the equations are no longer well posed there (a compression too strong for the "
+         "law, e.g. Saint Venant-Kirchhoff below F = 1/sqrt(3))";
+    throw std::runtime_error(o.str());
+  }
+  throw RankStopped("a particle left its hyperbolic range (another rank names it)");
+}
+
 template <class Physics>
 void Simulation<Physics>::step(double dt) {
   auto& particles = problem_.particles;
+  step_speed_ = max_speed_;
   bool finite = false;  // known finite (DGMPM checks as it writes the particles)
   try {
     if (mpm_) {
@@ -322,18 +385,13 @@ void Simulation<Physics>::step(double dt) {
         stepper_->rebuild(particles, problem_.materials);
         if (!overfull_warned_ && scene_.formulation == Formulation::paper)
           warn_if_overfull_cell(steps_ + 1, time_ + dt);
-        if (time_control_->automatic()) {
-          dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), particles);
-          if (halo_) dt_ = halo_->comm().min(dt_);  // every cell is some rank's: exact
-          const long every = scene_.time.check_scene_every;
-          if (every > 0 && (steps_ + 1) % every == 0)
-            check_scene(steps_ + 1, time_ + dt);
-          else
-            dt_ *= scene_guard_factor_;
-        }
       } else if (halo_) {
         halo_->exchange_states(particles);
       }
+      // A new step where the layouts (moving particles, automatic step) or the speeds (finite
+      // strain) have changed.
+      if (scene_.particles_move ? time_control_->automatic() : state_dependent_speed)
+        choose_time_step(steps_ + 1, time_ + dt);
     }
   } catch (const ParticleOutsideGrid& e) {
     throw std::runtime_error(format_step(steps_ + 1, time_ + dt) + ": " + e.what() + " " +
@@ -495,7 +553,10 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
   constexpr int kInternal = kState + ncomp, kDerived = kInternal + ParticleSet::n_internal;
   constexpr int kExact = kDerived + derived_count;
   const int kDisplacement = kExact + (ex ? ncomp : 0);
-  Eigen::MatrixXd table(kDisplacement + (p.tracks_reference ? dim : 0), s.cols());
+  // Total Lagrangian physics: the current position X + u after the reference X ("x").
+  constexpr bool current = physics::CarriesDisplacement<Physics>;
+  const int kCurrent = kDisplacement + (p.tracks_reference ? dim : 0);
+  Eigen::MatrixXd table(kCurrent + (current ? dim : 0), s.cols());
   for (Eigen::Index i = 0; i < s.cols(); ++i) {
     table(0, i) = p.id[i];
     table.col(i).segment<dim>(1) = p.position.col(i);
@@ -511,6 +572,9 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
     if (ex) table.col(i).segment<ncomp>(kExact) = ex->col(i);
     if (p.tracks_reference)
       table.col(i).segment<dim>(kDisplacement) = p.position.col(i) - p.reference.col(i);
+    if constexpr (current)
+      table.col(i).segment<dim>(kCurrent) =
+          p.position.col(i) + Physics::displacement_of(p.internal.col(i));
   }
   if (halo_) table = halo_->gather(table);
   if (!root()) return;
@@ -523,6 +587,7 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
     if (ex)
       for (const char* name : Physics::state_names) out << ",exact_" << name;
     if (p.tracks_reference) out << (dim == 1 ? ",displacement" : ",displacement_x,displacement_y");
+    if (current) out << (dim == 1 ? ",current_x" : ",current_x,current_y");
     out << ",time\n";
     for (Eigen::Index i = 0; i < table.cols(); ++i) {
       out << static_cast<long>(table(0, i));
@@ -572,7 +637,8 @@ void Simulation<Physics>::write_vtu(std::size_t k, const std::string& directory,
   const ParticleSet piece = p.select(owned);
   const auto data = vtk::point_data<Physics>(piece, problem_.materials, s, ex);
   Communicator& comm = halo_->comm();
-  vtk::write_points(directory + "/" + piece_file(k, comm.rank()), piece.position, data, options);
+  vtk::write_points(directory + "/" + piece_file(k, comm.rank()),
+                    vtk::current_positions<Physics>(piece), data, options);
   comm.barrier();  // every piece complete before the index names it
   if (!root()) return;
   std::vector<std::string> pieces;
@@ -600,9 +666,12 @@ struct Simulation<Physics>::RunRecord {
 };
 
 namespace detail {
-constexpr const char* history_header(bool dissipative) {
-  return dissipative ? "step,time,dt,kinetic,elastic,stored,dissipated,total,boundary_work\n"
-                     : "step,time,dt,kinetic,elastic,total,boundary_work\n";
+// max_wave_speed (speeds that change with the state): the largest particle speed at the step's
+// start, the one its dt was chosen with.
+inline std::string history_header(bool dissipative, bool speeds) {
+  std::string h = dissipative ? "step,time,dt,kinetic,elastic,stored,dissipated,total,boundary_work"
+                              : "step,time,dt,kinetic,elastic,total,boundary_work";
+  return h + (speeds ? ",max_wave_speed\n" : "\n");
 }
 }  // namespace detail
 
@@ -724,7 +793,7 @@ void Simulation<Physics>::open_history(RunRecord& record, bool resumed) {
       warnings_.push_back(path + " does not hold the energy history the checkpoint " +
                           "recorded: it restarts at step " + std::to_string(steps_));
     record.committed.create(path);
-    record.committed.stream() << detail::history_header(dissipative);
+    record.committed.stream() << detail::history_header(dissipative, state_dependent_speed);
     if (initial_row) write_history(&record.committed.stream(), 0.0, e);
   }
   if (root()) {
@@ -746,7 +815,9 @@ void Simulation<Physics>::write_history(std::ostream* out, double dt, const Ener
   if (!out) return;
   *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ',';
   if (dissipative) *out << e.stored << ',' << e.dissipated << ',';
-  *out << e.total() << ',' << work_ << '\n';
+  *out << e.total() << ',' << work_;
+  if (state_dependent_speed) *out << ',' << (steps_ > 0 ? step_speed_ : max_speed_);
+  *out << '\n';
 }
 
 // The step count up front: a run that would need more than time.max_steps is refused.
@@ -895,7 +966,10 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   const auto start = clock::now();
   last_summary_.reset();
   const bool resumed = !restored_from_.empty();
-  if (!resumed) progress_.dt_min = progress_.dt_max = dt_;
+  if (!resumed) {
+    progress_.dt_min = progress_.dt_max = dt_;
+    progress_.courant_min = progress_.courant_max = dt_ * courant_per_dt();
+  }
   RunRecord record{options, options.output_directory.value_or(scene_.output.directory)};
   record.writes = !record.directory.empty();
   record.checkpoints = options.checkpoint_steps > 0 || options.checkpoint_seconds > 0;
@@ -979,6 +1053,9 @@ int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
     // The range of the controlled step; steps shortened to land on a time are not counted.
     progress_.dt_min = std::min(progress_.dt_min, controlled);
     progress_.dt_max = std::max(progress_.dt_max, controlled);
+    const double courant = controlled * (step_speed_ / cell_size());  // speeds at the step's start
+    progress_.courant_min = std::min(progress_.courant_min, courant);
+    progress_.courant_max = std::max(progress_.courant_max, courant);
     if (record.writes) {
       energy = energy_parts();
       write_history(record.history, dt, energy);
@@ -1086,9 +1163,8 @@ RunSummary Simulation<Physics>::summarise() const {
   summary.energy_initial = initial_energy_;
   summary.dt_min = progress_.dt_min;
   summary.dt_max = progress_.dt_max;
-  const double to_courant = max_speed_ / problem_.grid.cell_size.minCoeff();
-  summary.courant_min = summary.dt_min * to_courant;
-  summary.courant_max = summary.dt_max * to_courant;
+  summary.courant_min = progress_.courant_min;
+  summary.courant_max = progress_.courant_max;
   summary.steps = steps_;
   summary.final_time = time_;
   summary.warnings = warnings_;
@@ -1199,6 +1275,7 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
       {"step", steps_},
       {"time", bits(time_)},
       {"dt", bits(dt_)},
+      {"max_speed", bits(max_speed_)},
       {"work", bits(work_)},
       {"power", bits(power_)},
       {"most_work", bits(most_work_)},
@@ -1217,6 +1294,8 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
         {"checkpoints", d.checkpoints},
         {"dt_min", bits(d.dt_min)},
         {"dt_max", bits(d.dt_max)},
+        {"courant_min", bits(d.courant_min)},
+        {"courant_max", bits(d.courant_max)},
         {"history_bytes", d.history_bytes},
         {"history_hash", d.history_hash},
         {"checkpoint_step", d.checkpoint_step}}}};
@@ -1287,6 +1366,8 @@ void Simulation<Physics>::restore(const std::string& path) {
     d.checkpoints = g.at("checkpoints").get<std::vector<std::string>>();
     d.dt_min = u(g, "dt_min");
     d.dt_max = u(g, "dt_max");
+    d.courant_min = u(g, "courant_min");
+    d.courant_max = u(g, "courant_max");
     d.history_bytes = g.at("history_bytes").get<std::uint64_t>();
     d.history_hash = g.at("history_hash").get<std::uint64_t>();
     d.checkpoint_step = g.at("checkpoint_step").get<long>();
@@ -1294,6 +1375,7 @@ void Simulation<Physics>::restore(const std::string& path) {
     steps_ = h.at("step").get<long>();
     time_ = u(h, "time");
     dt_ = u(h, "dt");
+    max_speed_ = u(h, "max_speed");
     work_ = u(h, "work");
     power_ = u(h, "power");
     most_work_ = u(h, "most_work");

@@ -27,6 +27,7 @@
 
 #include <dgmpm/discretisation.hpp>
 #include <dgmpm/grid.hpp>
+#include <dgmpm/physics/contract.hpp>
 #include <stability/admissible_courant.hpp>
 #include <stability/layout.hpp>
 #include <stability/options.hpp>
@@ -152,45 +153,63 @@ class TimeStepControl : public LayoutQuantisation {
   bool automatic() const { return automatic_; }
   const stability::GrowthBudget& growth_budget() const { return budget_; }
 
-  // Time step of the current configuration. Fixed Courant: C h / max c over occupied cells.
-  double time_step(const Grid<dim>& grid, const Disc& disc, const ParticleSet& particles) {
+  // Time step of the current configuration. Fixed Courant: C h / max c over occupied cells. A
+  // cell's c: its material's largest speed, or (speeds that change with the state, finite strain)
+  // the largest at its particles' current states. NaN when some particle's state is outside the
+  // hyperbolic range (no real speed).
+  double time_step(const Grid<dim>& grid, const Disc& disc, const ParticleSet& particles,
+                   const std::vector<typename Physics::Material>& materials) {
     const auto start = std::chrono::steady_clock::now();
     const double h = grid.cell_size.minCoeff();
-    double dt = std::numeric_limits<double>::infinity();
+    double dt = std::numeric_limits<double>::infinity(), fastest = 0;
+    bool hyperbolic = true;
+    const int cells = disc.num_cells();
     if (!automatic_) {
-      for (int c = 0; c < disc.num_cells(); ++c)
-        if (disc.occupied(c))
-          dt = std::min(dt, courant_ * h / Physics::max_wave_speed(disc.cell_material(c)));
+      for (int c = 0; c < cells; ++c) {
+        if (!disc.occupied(c)) continue;
+        const double speed = cell_speed(disc, particles, materials, c);
+        hyperbolic = hyperbolic && speed >= 0;
+        fastest = std::max(fastest, speed);
+        dt = std::min(dt, courant_ * h / speed);
+      }
     } else {
       // Cells whose C* a cache holds (most, once the run has started) on threads; the others,
       // which analyse and fill the caches, after them in cell order.
-      if (static_cast<int>(last_code_.size()) != disc.num_cells()) {
-        last_code_.assign(disc.num_cells(), 0);
-        last_courant_.assign(disc.num_cells(), 0.0);
+      if (static_cast<int>(last_code_.size()) != cells) {
+        last_code_.assign(cells, 0);
+        last_courant_.assign(cells, 0.0);
       }
       misses_.clear();
-      const int cells = disc.num_cells();
-#pragma omp parallel for reduction(min : dt) schedule(static)
+#pragma omp parallel for reduction(min : dt) reduction(max : fastest) \
+    reduction(&& : hyperbolic) schedule(static)
       for (int c = 0; c < cells; ++c) {
         if (!disc.occupied(c)) continue;
+        const double speed = cell_speed(disc, particles, materials, c);
+        hyperbolic = hyperbolic && speed >= 0;
+        fastest = std::max(fastest, speed);
         const double cs = cached_courant(disc, particles, c);
         if (std::isnan(cs)) {
 #pragma omp critical(dgmpm_time_step_misses)
           misses_.push_back(c);
           continue;
         }
-        const double speed = Physics::max_wave_speed(disc.cell_material(c));
         dt = std::min(dt, safety_ * std::min(1.0, disc.fill(c)) * cs * h / speed);
       }
       std::sort(misses_.begin(), misses_.end());
       for (const int c : misses_) {
-        const double speed = Physics::max_wave_speed(disc.cell_material(c));
+        const double speed = cell_speed(disc, particles, materials, c);
         dt = std::min(dt, safety_ * cell_courant(disc, particles, c) * h / speed);
       }
     }
+    fastest_ = fastest;
     selection_seconds_ +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return dt;
+    return hyperbolic ? dt : std::numeric_limits<double>::quiet_NaN();
+  }
+
+  // The largest wave speed the last time_step saw (over this rank's occupied cells).
+  double fastest_speed() const {
+    return fastest_;
   }
 
   // The smallest admissible Courant number over the occupied cells, the cell that sets it and
@@ -283,6 +302,25 @@ class TimeStepControl : public LayoutQuantisation {
     return small_cell * analysed(disc, c);
   }
 
+  // The largest wave speed in cell c (see time_step).
+  static double cell_speed(const Disc& disc, const ParticleSet& particles,
+                           const std::vector<typename Physics::Material>& materials, int c) {
+    if constexpr (physics::StateDependentSpeed<Physics>) {
+      double speed = 0;
+      for (int e = disc.cell_begin(c); e < disc.cell_end(c); ++e) {
+        const int p = disc.entry_particle(e);
+        const double s =
+            Physics::state_wave_speed(particles.state.col(p), materials[particles.material[p]]);
+        if (std::isnan(s)) return s;
+        speed = std::max(speed, s);
+      }
+      return speed;
+    } else {
+      (void)particles, (void)materials;
+      return Physics::max_wave_speed(disc.cell_material(c));
+    }
+  }
+
  private:
   // Layouts of at most this many coordinates are bounded from the lattice (2^4 corners).
   static constexpr int kLatticeCoordinates = 4;
@@ -302,6 +340,7 @@ class TimeStepControl : public LayoutQuantisation {
   stability::GrowthBudget budget_;
   bool lone_particle_shared_ = true, swap_symmetric_ = false;
   double analysis_seconds_ = 0, selection_seconds_ = 0;
+  double fastest_ = 0;
   // Key: (2D: Poisson's ratio), positions (dim per particle, sorted), then relative masses; the
   // smallest over the layout's mirror images.
   std::map<std::vector<double>, double> cache_;

@@ -41,16 +41,30 @@ void write_points(const std::string& path, const Eigen::MatrixXd& positions,
                   const std::vector<PointData>& data, const VtuOptions& options = {});
 
 // The fields of a physics, from the particles' physical states (sigma, v) and, when given, the
-// exact solution's: 1D stress, velocity; 2D sigma_xx, sigma_yy, sigma_xy, sigma_zz, von_mises,
-// velocity (3 components); the stress as a 3 x 3 tensor ("stress_tensor", row by row, for
-// ParaView's tensor filters) and, where the physics defines it, the strain ("strain_tensor");
-// the displacement from the initial position (3 components) where particles track it (moving
-// particles); mass, volume, size (the side of the particle's volume, volume^(1/dim): cell-sized
-// glyphs), id and material in both; the physics' internal variables and derived outputs.
+// exact solution's: 1D the state's components by their names (stress, velocity; finite strain F,
+// velocity, with the Cauchy stress as stress_tensor and F as deformation_gradient, 3 x 3, and
+// the reference positions, the points being the current ones); 2D sigma_xx, sigma_yy, sigma_xy,
+// sigma_zz, von_mises, velocity (3 components); the stress as a 3 x 3 tensor ("stress_tensor", row
+// by row, for ParaView's tensor filters) and, where the physics defines it, the strain
+// ("strain_tensor"); the displacement from the initial position (3 components) where particles
+// track it (moving particles); mass, volume, size (the side of the particle's volume,
+// volume^(1/dim): cell-sized glyphs), id and material in both; the physics' internal variables and
+// derived outputs.
 template <class Physics, class ParticleSet, class Field>
 std::vector<PointData> point_data(const ParticleSet& particles,
                                   const std::vector<typename Physics::Material>& materials,
                                   const Field& physical, const std::optional<Field>& exact);
+
+// Where the particles are drawn: their positions, or for a physics that keeps particles at their
+// reference positions X and carries their displacement u, the current positions X + u.
+template <class Physics, class ParticleSet>
+Eigen::MatrixXd current_positions(const ParticleSet& particles) {
+  Eigen::MatrixXd x = particles.position;
+  if constexpr (physics::CarriesDisplacement<Physics>)
+    for (Eigen::Index i = 0; i < x.cols(); ++i)
+      x.col(i) += Physics::displacement_of(particles.internal.col(i));
+  return x;
+}
 
 // The particles and their point_data() in one .vtu.
 template <class Physics, class ParticleSet, class Field>
@@ -58,8 +72,8 @@ void write_particles(const std::string& path, const ParticleSet& particles,
                      const std::vector<typename Physics::Material>& materials,
                      const Field& physical, const std::optional<Field>& exact,
                      const VtuOptions& options = {}) {
-  write_points(path, particles.position, point_data<Physics>(particles, materials, physical, exact),
-               options);
+  write_points(path, current_positions<Physics>(particles),
+               point_data<Physics>(particles, materials, physical, exact), options);
 }
 
 // A .pvtu: the pieces (.vtu file names relative to it, one per rank of a distributed run, each
@@ -97,11 +111,28 @@ std::vector<PointData> point_data(const ParticleSet& particles,
   const auto fields = [&](const Eigen::MatrixXd& s, const std::string& prefix) {
     PointData tensor{prefix + "stress_tensor", 9, {}, "Pa"};
     if constexpr (Physics::dim == 1) {
-      data.push_back(detail::row(prefix + "stress", s, 0, "Pa"));
-      data.push_back(detail::row(prefix + "velocity", s, 1, "m/s"));
-      for (Eigen::Index i = 0; i < s.cols(); ++i)
-        for (int k = 0; k < 9; ++k) tensor.values.push_back(k == 0 ? s(0, i) : 0.0);
+      for (int k = 0; k < Physics::n_comp; ++k)
+        data.push_back(
+            detail::row(prefix + Physics::state_names[k], s, k, Physics::state_units[k]));
+      for (Eigen::Index i = 0; i < s.cols(); ++i) {
+        if constexpr (physics::FiniteStrainOutputs<Physics>) {
+          const Eigen::Matrix3d sigma = Physics::cauchy_stress_tensor(
+              s.col(i), particles.internal.col(i), materials[particles.material[i]]);
+          for (int k = 0; k < 9; ++k) tensor.values.push_back(sigma(k / 3, k % 3));
+        } else {
+          for (int k = 0; k < 9; ++k) tensor.values.push_back(k == 0 ? s(0, i) : 0.0);
+        }
+      }
       data.push_back(std::move(tensor));
+      if constexpr (physics::FiniteStrainOutputs<Physics>) {
+        PointData f{prefix + "deformation_gradient", 9, {}, "1"};
+        for (Eigen::Index i = 0; i < s.cols(); ++i) {
+          const Eigen::Matrix3d g =
+              Physics::deformation_gradient_tensor(s.col(i), particles.internal.col(i));
+          for (int k = 0; k < 9; ++k) f.values.push_back(g(k / 3, k % 3));
+        }
+        data.push_back(std::move(f));
+      }
     } else {
       data.push_back(detail::row(prefix + "sigma_xx", s, PlaneStrain::sxx, "Pa"));
       data.push_back(detail::row(prefix + "sigma_yy", s, PlaneStrain::syy, "Pa"));
@@ -142,6 +173,8 @@ std::vector<PointData> point_data(const ParticleSet& particles,
   if (particles.tracks_reference)
     data.push_back(detail::vector3("displacement", particles.position - particles.reference, 0,
                                    Physics::dim, "m"));
+  if constexpr (physics::CarriesDisplacement<Physics>)  // the points are the current positions
+    data.push_back(detail::vector3("reference_position", particles.position, 0, Physics::dim, "m"));
   if (exact) fields(*exact, "exact_");
   // Per unit thickness in 2D (kg/m, m^2), per unit cross-section in 1D (kg/m^2, m).
   const char* mass_unit = Physics::dim == 1 ? "kg/m^2" : "kg/m";

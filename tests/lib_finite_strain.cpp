@@ -78,6 +78,7 @@ struct HalfSpace {
       particles.volume[p] = h;
       particles.mass[p] = rho0 * h;
       particles.state.col(p) = P::specific(1.0, 0.0, materials[0]);
+      particles.internal.col(p).setZero();  // the displacement
       particles.material[p] = 0;
       particles.id[p] = p;
     }
@@ -181,6 +182,57 @@ BOOST_AUTO_TEST_CASE(the_laws_are_their_closed_forms_and_their_own_derivatives) 
   // SVK loses hyperbolicity at F = 1/sqrt(3): the wave speed is NaN past it.
   BOOST_TEST(std::abs(SVK::tangent(1 / std::sqrt(3.0), svk)) <= 1e-15 * M);
   BOOST_TEST(std::isnan(SVK::wave_speed(0.5, svk)));
+}
+
+// The 3D laws of F = diag(a, b, c), written here: the uniaxial nominal stress is dW/da and the
+// lateral Cauchy stress (dW/db) b / J at (f, 1, 1), by central differences; the Cauchy tensor and
+// F the outputs write are diag(P, sigma_yy, sigma_yy) and diag(f, 1, 1).
+BOOST_AUTO_TEST_CASE(the_lateral_cauchy_stress_is_the_3d_laws_derivative) {
+  const auto svk_3d = [](double a, double b, double c) {
+    const double e[3] = {0.5 * (a * a - 1), 0.5 * (b * b - 1), 0.5 * (c * c - 1)};
+    const double tr = e[0] + e[1] + e[2];
+    return 0.5 * lambda * tr * tr + mu * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  };
+  const auto nh_3d = [](double a, double b, double c) {
+    const double j = a * b * c;
+    return 0.5 * mu * (std::pow(j, -2.0 / 3.0) * (a * a + b * b + c * c) - 3) +
+           0.5 * kappa * (j - 1) * (j - 1);
+  };
+  const double d = 1e-6;
+  for (double f : {0.7, 0.95, 1.0, 1.05, 1.3}) {
+    const auto check = [&](auto physics, const auto& w) {
+      using P = decltype(physics);
+      const typename P::Material m(E, nu, rho0);
+      const double p_xx = (w(f + d, 1, 1) - w(f - d, 1, 1)) / (2 * d);
+      const double sigma_yy = (w(f, 1 + d, 1) - w(f, 1 - d, 1)) / (2 * d) / f;
+      const typename P::State s(f, 0.0);  // physical (F, v)
+      const Eigen::Matrix<double, 1, 1> z(0.0);
+      const auto derived = P::derived(s, z, m);
+      BOOST_TEST(std::abs(derived[0] - p_xx) <= 1e-7 * M);
+      BOOST_TEST(std::abs(derived[1] - sigma_yy) <= 1e-7 * M);
+      BOOST_TEST(derived[2] == f);  // J
+      const Eigen::Matrix3d sigma = P::cauchy_stress_tensor(s, z, m);
+      BOOST_TEST(sigma(0, 0) == derived[0]);
+      BOOST_TEST(sigma(1, 1) == derived[1]);
+      BOOST_TEST(sigma(2, 2) == derived[1]);
+      BOOST_TEST((sigma - Eigen::Matrix3d(sigma.diagonal().asDiagonal())).norm() == 0.0);
+      BOOST_CHECK(P::deformation_gradient_tensor(s, z) ==
+                  Eigen::Matrix3d(Eigen::Vector3d(f, 1, 1).asDiagonal()));
+    };
+    check(SVK{}, svk_3d);
+    check(NH{}, nh_3d);
+  }
+}
+
+// The displacement follows the velocity after the step: u += dt v.
+BOOST_AUTO_TEST_CASE(the_particle_step_carries_the_displacement) {
+  const SVK::Material m(E, nu, rho0);
+  SVK::State q = SVK::specific(1.01, -3.5, m);
+  Eigen::Matrix<double, 1, 1> z(0.25);
+  SVK::particle_step(q, z, m, 2e-3);
+  BOOST_TEST(z[0] == 0.25 - 3.5 * 2e-3);
+  BOOST_TEST(SVK::displacement_of(z)[0] == z[0]);
+  BOOST_CHECK(q == SVK::specific(1.01, -3.5, m));  // the state itself is left alone
 }
 
 // At a small jump the linearised star state is small-strain elasticity's, and a boundary star

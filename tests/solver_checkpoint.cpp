@@ -254,6 +254,28 @@ BOOST_AUTO_TEST_CASE(plastic_bar_dgmpm_and_mpm) {
   }
 }
 
+// Finite strain: the displacement (an internal variable), the step that changes with the speeds
+// and the Courant range run so far, restored bit for bit; SVK under a tension load (RK2) and the
+// neo-Hookean impact (Euler), automatic and fixed steps.
+BOOST_AUTO_TEST_CASE(finite_strain_bars) {
+  const auto shipped = [](const std::string& name) {
+    std::ifstream in(std::string(DGMPM_TEST_SOURCE_DIR) + "/scenes/" + name + ".json");
+    json doc = json::parse(in);
+    doc["grid"]["cells"] = {60};
+    doc["grid"]["cell_size"] = {0.1};
+    doc["time"]["end"] = 3e-4;
+    doc["output"]["times"] = {1e-4, 2e-4, 3e-4};
+    doc["output"]["formats"] = {"csv", "vtu"};
+    return doc;
+  };
+  json svk = shipped("svk_shock_20gpa");
+  svk["time"]["integrator"] = "rk2";
+  check_restarts("svk_rk2_auto", svk, every(6));
+  json nh = shipped("neo_hookean_impact");
+  nh["time"]["courant"] = 0.85;
+  check_restarts("neo_hookean_fixed", nh, every(7));
+}
+
 BOOST_AUTO_TEST_CASE(energy_history_cut_back_to_the_checkpoint) {
   // A run killed after its last checkpoint leaves rows (maybe half a row) beyond it: cut away.
   const json doc = bar_1d("dgmpm", false, "euler", 0.5);

@@ -3,6 +3,8 @@
 
 #include "solver/scene.hpp"
 
+#include <dgmpm/physics/finite_strain_bar.hpp>
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -552,9 +554,87 @@ BOOST_AUTO_TEST_CASE(refuses_unknown_names) {
   doc["exact"] = "plate";
   check_refused(doc, {"exact: value \"plate\" is not known", "bar"});
   doc = base();
-  doc["materials"]["steel"]["model"] = "neo_hookean";
+  doc["materials"]["steel"]["model"] = "mooney_rivlin";
+  check_refused(doc, {"materials.steel.model: value \"mooney_rivlin\" is not known",
+                      "linear_elastic", "saint_venant_kirchhoff", "neo_hookean"});
+}
+
+// Finite strain (1D DGMPM so far): what it cannot mean is refused with the key path and the
+// reason; a valid scene gets the finite-strain default safety of an automatic step.
+BOOST_AUTO_TEST_CASE(refuses_what_finite_strain_cannot_mean) {
+  const auto finite = [] {
+    json doc = base();
+    doc.erase("exact");
+    doc["materials"]["steel"]["model"] = "saint_venant_kirchhoff";
+    for (auto& b : doc["bodies"]) b.erase("stress");
+    return doc;
+  };
+  BOOST_TEST(refusal(finite()).empty());
+  json doc = finite();
+  doc["time"]["courant"] = "auto";
+  BOOST_TEST(parse_scene(doc, "scene.json").time.safety == dgmpm::kFiniteStrainSafety);
+  doc["time"]["safety"] = 1.0;
+  BOOST_TEST(parse_scene(doc, "scene.json").time.safety == 1.0);
+
+  doc = finite();
+  doc["materials"]["steel"]["yield_stress"] = 4e8;
   check_refused(doc,
-                {"materials.steel.model: value \"neo_hookean\" is not known", "linear_elastic"});
+                {"materials.steel.yield_stress: unknown key", "model, young, poisson, density"});
+  doc = finite();
+  doc["materials"]["soft"] = {{"young", 1e9}, {"density", 1000}};
+  check_refused(doc, {"materials.steel.model: value \"saint_venant_kirchhoff\"",
+                      "mixes finite strain with the small-strain material \"soft\"",
+                      "every material of a scene finite-strain, or none"});
+  doc["materials"]["soft"]["model"] = "neo_hookean";
+  check_refused(doc,
+                {"materials.soft.model: value \"neo_hookean\"",
+                 "second hyperelastic law beside \"saint_venant_kirchhoff\"", "one law per scene"});
+  doc = finite();
+  doc["method"] = "mpm-usl";
+  check_refused(doc, {"method: value \"mpm-usl\" has no finite strain yet", "\"dgmpm\""});
+  doc = finite();
+  doc["particles_move"] = true;
+  check_refused(doc, {"particles_move: value true is not allowed", "total Lagrangian", "false"});
+  doc = finite();
+  doc["strain"] = "uniaxial_stress";
+  check_refused(doc, {"strain: value \"uniaxial_stress\"", "1D finite strain is uniaxial strain"});
+  doc["strain"] = "uniaxial_strain";
+  BOOST_TEST(refusal(doc).empty());
+  doc = finite();
+  doc["exact"] = "bar";
+  check_refused(doc, {"exact: value \"bar\" is not available with finite-strain material"});
+  doc = finite();
+  doc["bodies"][1]["stress"] = {1e8};
+  check_refused(doc, {"bodies[1].stress: value [100000000.0]", "deformation_gradient"});
+  // SVK's hyperbolic range is F > 1/sqrt(3) = 0.57735; the neo-Hookean law's F > 0.
+  doc = finite();
+  doc["bodies"][0]["deformation_gradient"] = {0.57};
+  check_refused(doc, {"bodies[0].deformation_gradient: value [0.57] is outside the hyperbolic "
+                      "range of \"saint_venant_kirchhoff\"",
+                      "F_xx > 0.57735"});
+  doc["bodies"][0]["deformation_gradient"] = {0.58};
+  BOOST_TEST(refusal(doc).empty());
+  doc["materials"]["steel"]["model"] = "neo_hookean";
+  doc["bodies"][0]["deformation_gradient"] = {0.0};
+  check_refused(doc, {"bodies[0].deformation_gradient: value [0.0]", "F_xx > 0"});
+  doc["bodies"][0]["deformation_gradient"] = {0.01};
+  BOOST_TEST(refusal(doc).empty());
+  // A traction SVK reaches only past its range: below P(1/sqrt(3)) = -M / (3 sqrt(3)), with
+  // M = 2.6923e11 Pa for steel (-5.18e10 Pa).
+  doc = finite();
+  doc["boundaries"]["xmin"] = {{"type", "traction"}, {"value", -5.2e10}};
+  check_refused(doc, {"boundaries.xmin: value", "nominal stress -5.2e+10 Pa",
+                      "nominal stresses above -5.18"});
+  doc["boundaries"]["xmin"]["value"] = -5.1e10;
+  BOOST_TEST(refusal(doc).empty());
+  doc["materials"]["steel"]["model"] = "neo_hookean";
+  doc["boundaries"]["xmin"]["value"] = -5e11;
+  BOOST_TEST(refusal(doc).empty());
+  // Not a 2D material yet; a deformation gradient needs a finite-strain material.
+  doc = base();
+  doc["bodies"][0]["deformation_gradient"] = {1.01};
+  check_refused(
+      doc, {"bodies[0].deformation_gradient: value [1.01] is a finite-strain key", "small-strain"});
 }
 
 BOOST_AUTO_TEST_CASE(refuses_non_finite_numbers) {

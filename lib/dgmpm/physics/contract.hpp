@@ -130,6 +130,30 @@ concept HasStrain = requires(const typename P::State& s, const Internal<P>& z,
   { P::strain_tensor(s, z, m) } -> std::convertible_to<Eigen::Matrix3d>;
 };
 
+// A physics whose wave speeds change with the state (finite strain): the largest speed at a
+// particle's specific state, NaN where the state leaves the hyperbolic range. A run recomputes its
+// time step every step from these.
+template <class P>
+concept StateDependentSpeed = requires(const typename P::State& q, const typename P::Material& m) {
+  { P::state_wave_speed(q, m) } -> std::convertible_to<double>;
+};
+
+// A physics whose particles stay at their reference positions X and carry a displacement u among
+// their internal variables (total Lagrangian): outputs place them at X + u.
+template <class P>
+concept CarriesDisplacement = requires(const Internal<P>& z) {
+  { P::displacement_of(z) } -> std::convertible_to<Eigen::Matrix<double, P::dim, 1>>;
+};
+
+// Outputs of a physics whose state is not the stress (finite strain): the Cauchy stress and the
+// deformation gradient as 3 x 3 tensors.
+template <class P>
+concept FiniteStrainOutputs = requires(const typename P::State& s, const Internal<P>& z,
+                                       const typename P::Material& m) {
+  { P::cauchy_stress_tensor(s, z, m) } -> std::convertible_to<Eigen::Matrix3d>;
+  { P::deformation_gradient_tensor(s, z) } -> std::convertible_to<Eigen::Matrix3d>;
+};
+
 template <class P>
 concept InternalVariablesStepped = P::n_internal == 0 || ParticleStepPhysics<P>;
 

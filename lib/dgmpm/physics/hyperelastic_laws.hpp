@@ -10,6 +10,10 @@
 //     kappa = lambda + 2 mu / 3; uniaxially P = (2 mu / 3) F^(-5/3) (F^2 - 1) + kappa (F - 1),
 //     dP/dF = (2 mu / 9) F^(-8/3) (F^2 + 5) + kappa, positive for every F > 0.
 // Both reduce to small-strain elasticity with the Lame moduli at F = I (dP/dF = M).
+// Uniaxially the Cauchy stress is diag(P, s_l, s_l): sigma_xx = P F / J = P, and the lateral
+// s_l = sigma_yy = sigma_zz (uniaxial_lateral_stress; SVK lambda (F^2 - 1) / (2 F), neo-Hookean
+// mu F^(-5/3) (1 - F^2) / 3 + kappa (F - 1)). `uniaxial_lowest_f`: where the longitudinal
+// tangent vanishes (the hyperbolic range is F above it).
 
 #include <cmath>
 
@@ -36,6 +40,10 @@ struct SaintVenantKirchhoff {
   static double uniaxial_tangent(double f, const LameModuli& k) {
     return 0.5 * k.p_modulus() * (3 * f * f - 1);
   }
+  static double uniaxial_lateral_stress(double f, const LameModuli& k) {
+    return 0.5 * k.lambda * (f * f - 1) / f;
+  }
+  static double uniaxial_lowest_f() { return 1 / std::sqrt(3.0); }
 };
 
 struct NeoHookean {
@@ -52,6 +60,10 @@ struct NeoHookean {
   static double uniaxial_tangent(double f, const LameModuli& k) {
     return 2.0 * k.mu / 9.0 * std::pow(f, -8.0 / 3.0) * (f * f + 5) + bulk(k);
   }
+  static double uniaxial_lateral_stress(double f, const LameModuli& k) {
+    return k.mu / 3.0 * std::pow(f, -5.0 / 3.0) * (1 - f * f) + bulk(k) * (f - 1);
+  }
+  static double uniaxial_lowest_f() { return 0.0; }
 };
 
 }  // namespace dgmpm
