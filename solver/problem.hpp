@@ -16,6 +16,7 @@
 #include <dgmpm/physics/plane_strain_plastic.hpp>
 #include <dgmpm/physics/uniaxial_strain_plastic.hpp>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <type_traits>
@@ -43,10 +44,13 @@ struct Problem {
     double c = 0;
     for (int p = 0; p < particles.size(); ++p) {
       const auto& m = materials[particles.material[p]];
-      if constexpr (physics::StateDependentSpeed<Physics>)
-        c = std::max(c, Physics::state_wave_speed(particles.state.col(p), m));
-      else
+      if constexpr (physics::StateDependentSpeed<Physics>) {
+        const double cp = Physics::state_wave_speed(particles.state.col(p), m);
+        if (std::isnan(cp)) return cp;  // outside the hyperbolic range
+        c = std::max(c, cp);
+      } else {
         c = std::max(c, Physics::max_wave_speed(m));
+      }
     }
     return c;
   }

@@ -353,14 +353,12 @@ class Parser {
     const std::string fs = "with finite-strain material \"" + finite->name + "\"";
     if (s.dimension != 1)
       refuse(material_path(*finite), model, "is not available in 2D yet", "1D scenes");
-    if (s.method != Method::dgmpm)
-      refuse("method", doc["method"], "has no finite strain yet (" + fs.substr(5) + ")",
-             "\"dgmpm\"");
     if (s.particles_move)
       refuse("particles_move", doc["particles_move"],
              "is not allowed " + fs +
-                 ": the formulation is total Lagrangian, particles stay at their reference "
-                 "positions and carry their displacement (outputs give the current positions)",
+                 ": the formulation is total Lagrangian (DGMPM and the MPM baseline alike): "
+                 "particles stay at their reference positions and carry their displacement "
+                 "(outputs give the current positions)",
              "false");
     if (const json* k = find(doc, "strain"); k && !s.uniaxial_strain)
       refuse("strain", *k, "is not allowed " + fs + ": 1D finite strain is uniaxial strain",

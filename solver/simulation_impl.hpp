@@ -377,6 +377,11 @@ void Simulation<Physics>::step(double dt) {
   try {
     if (mpm_) {
       mpm_->step(particles, time_, dt, scene_.particles_move);
+      if constexpr (state_dependent_speed) {  // C h / c at the particles' new speeds
+        max_speed_ = problem_.max_wave_speed();
+        dt_ = scene_.time.courant * cell_size() / max_speed_;
+        check_hyperbolic(steps_ + 1, time_ + dt);
+      }
     } else {
       finite = stepper_->step(particles, problem_.materials, time_, dt);
       if (scene_.particles_move) {

@@ -274,6 +274,9 @@ BOOST_AUTO_TEST_CASE(finite_strain_bars) {
   json nh = shipped("neo_hookean_impact");
   nh["time"]["courant"] = 0.85;
   check_restarts("neo_hookean_fixed", nh, every(7));
+  svk["method"] = "mpm-usl";
+  svk["time"]["courant"] = 0.5;
+  check_restarts("svk_mpm_usl", svk, every(9));
 }
 
 BOOST_AUTO_TEST_CASE(energy_history_cut_back_to_the_checkpoint) {

@@ -144,6 +144,18 @@ struct FiniteStrainBar {
     return {p, v};
   }
 
+  // The MPM baseline's constitutive part, total Lagrangian as this physics (its grid is the
+  // reference configuration, its particles stay at X): the nominal stress the internal force
+  // integrates over the reference volume, and F += dt dv/dX in specific form.
+  static Eigen::Matrix<double, 1, 1> stress_tensor(const State& q, const Material& m) {
+    return Eigen::Matrix<double, 1, 1>(nominal_stress(q[0] * m.density, m));
+  }
+  template <class Q>
+  static void add_stress_rate(Q&& q, const Eigen::Matrix<double, 1, 1>& grad_v, const Material& m,
+                              double dt) {
+    q[0] += dt * grad_v(0, 0) / m.density;
+  }
+
   // The displacement follows the particle's velocity after the step.
   template <class Q, class Z>
   static void particle_step(Q&& q, Z&& z, const Material&, double dt) {
