@@ -1,5 +1,6 @@
 #include "reports/report.hpp"
 
+#include "reports/finite_strain.hpp"
 #include "reports/plasticity.hpp"
 #include "reports/report_io.hpp"
 
@@ -514,6 +515,8 @@ std::vector<std::string> report_csv_files() {
                                     "courant_vs_particles_2d.csv"};
   const std::vector<std::string> plastic = plasticity_csv_files();
   files.insert(files.end(), plastic.begin(), plastic.end());
+  const std::vector<std::string> finite = finite_strain_csv_files();
+  files.insert(files.end(), finite.begin(), finite.end());
   return files;
 }
 
@@ -532,6 +535,8 @@ std::vector<std::string> report_png_files() {
                                     "courant_vs_particles_2d.png"};
   const std::vector<std::string> plastic = plasticity_png_files();
   files.insert(files.end(), plastic.begin(), plastic.end());
+  const std::vector<std::string> finite = finite_strain_png_files();
+  files.insert(files.end(), finite.begin(), finite.end());
   return files;
 }
 
@@ -565,6 +570,8 @@ struct ReportBuilder {
   Stability2D stab_2d;
   PlasticitySection plasticity;
   int plasticity_plots = 0;
+  FiniteStrainSection finite_strain;
+  int finite_strain_plots = 0;
   std::vector<Best> best;
   clock_type::time_point phase;
   double accuracy_seconds = 0, stability_seconds = 0, stiff_seconds = 0, plate_seconds = 0;
@@ -680,6 +687,11 @@ void ReportBuilder::run_2d_stability_and_plasticity() {
   // 8. Solids that yield (runs, and their plots when asked).
   plasticity = plasticity_section(dir, options.quick, options.plots, plasticity_plots, log);
   result.files.insert(result.files.end(), plasticity.files.begin(), plasticity.files.end());
+
+  // 9. Finite strain.
+  finite_strain =
+      finite_strain_section(dir, options.quick, options.plots, finite_strain_plots, log);
+  result.files.insert(result.files.end(), finite_strain.files.begin(), finite_strain.files.end());
 }
 
 void ReportBuilder::find_best() {
@@ -804,6 +816,7 @@ void ReportBuilder::plot() {
       if (result.plot_status == 0) result.plot_status = status;
     }
   if (result.plot_status == 0) result.plot_status = plasticity_plots;
+  if (result.plot_status == 0) result.plot_status = finite_strain_plots;
   plot_seconds = seconds_since(phase);
   if (options.plots)
     for (const std::string& png : report_png_files()) result.files.push_back(dir + "/" + png);
@@ -828,7 +841,8 @@ void ReportBuilder::markdown_header(std::ostream& md) const {
      << " s, stiff cases " << fixed(stiff_seconds, 1) << " s, 2D plate " << fixed(plate_seconds, 1)
      << " s, 2D plane waves " << fixed(plane_wave_seconds, 1) << " s, 2D stability "
      << fixed(stability_2d_seconds, 1) << " s, solids that yield " << fixed(plasticity.seconds, 1)
-     << " s, plots " << fixed(plot_seconds, 1) << " s) |\n\n";
+     << " s, finite strain " << fixed(finite_strain.seconds, 1) << " s, plots "
+     << fixed(plot_seconds, 1) << " s) |\n\n";
   if (result.plot_status != 0)
     md << "**The plotting script failed (status " << result.plot_status
        << "): the figures below are missing or stale.**\n\n";
@@ -1032,6 +1046,7 @@ void ReportBuilder::markdown_2d_stability(std::ostream& md) const {
         "`plane_wave_orders.csv`, `stability_map_2d.csv`, `courant_vs_particles_2d.csv`; the "
         "plate's particles in `plate_*/`.\n\n";
   md << plasticity.markdown;
+  md << finite_strain.markdown;
 }
 
 }  // namespace
