@@ -14,10 +14,23 @@
 // s_l = sigma_yy = sigma_zz (uniaxial_lateral_stress; SVK lambda (F^2 - 1) / (2 F), neo-Hookean
 // mu F^(-5/3) (1 - F^2) / 3 + kappa (F - 1)). `uniaxial_lowest_f`: where the longitudinal
 // tangent vanishes (the hyperbolic range is F above it).
+//
+// Plane strain (F_zz = 1, F the in-plane 2 x 2 block): the in-plane energy, nominal stress and
+// tangent A_iJkL = dP_iJ / dF_kL (plane_*), and the full Cauchy stress with sigma_zz
+// (plane_cauchy). SVK: P = F S, S = lambda tr(E) I + 2 mu E with E the in-plane Green-Lagrange
+// strain (E_zz = 0), A_iJkL = delta_ik S_JL + lambda F_iJ F_kL + mu (F_iL F_kJ + (F F^T)_ik
+// delta_JL). Neo-Hookean, with G = F^-T, I1 = tr(F^T F) + 1 and a = J^(-2/3):
+// P = mu a (F - (I1 / 3) G) + kappa J (J - 1) G.
 
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <array>
 #include <cmath>
 
 namespace dgmpm {
+
+// A plane-strain tangent A_iJkL, i, J, k, L in {x, y}, stored as a[i][J][k][L].
+using PlaneTangent = std::array<std::array<std::array<std::array<double, 2>, 2>, 2>, 2>;
 
 // The Lame moduli of a law, from Young's modulus and Poisson's ratio.
 struct LameModuli {
@@ -44,6 +57,40 @@ struct SaintVenantKirchhoff {
     return 0.5 * k.lambda * (f * f - 1) / f;
   }
   static double uniaxial_lowest_f() { return 1 / std::sqrt(3.0); }
+
+  static Eigen::Matrix2d plane_green(const Eigen::Matrix2d& f) {
+    return 0.5 * (f.transpose() * f - Eigen::Matrix2d::Identity());
+  }
+  static Eigen::Matrix2d plane_second(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const Eigen::Matrix2d e = plane_green(f);
+    return k.lambda * e.trace() * Eigen::Matrix2d::Identity() + 2 * k.mu * e;
+  }
+  static double plane_energy(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const Eigen::Matrix2d e = plane_green(f);
+    return 0.5 * k.lambda * e.trace() * e.trace() + k.mu * (e.array() * e.array()).sum();
+  }
+  static Eigen::Matrix2d plane_stress(const Eigen::Matrix2d& f, const LameModuli& k) {
+    return f * plane_second(f, k);
+  }
+  static PlaneTangent plane_tangent(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const Eigen::Matrix2d s = plane_second(f, k), b = f * f.transpose();
+    PlaneTangent a{};
+    for (int i = 0; i < 2; ++i)
+      for (int J = 0; J < 2; ++J)
+        for (int kk = 0; kk < 2; ++kk)
+          for (int L = 0; L < 2; ++L)
+            a[i][J][kk][L] = (i == kk ? s(J, L) : 0.0) + k.lambda * f(i, J) * f(kk, L) +
+                             k.mu * (f(i, L) * f(kk, J) + (J == L ? b(i, kk) : 0.0));
+    return a;
+  }
+  // sigma = P F^T / J in plane, sigma_zz = S_zz / J = lambda tr(E) / J.
+  static Eigen::Matrix3d plane_cauchy(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const double j = f.determinant();
+    Eigen::Matrix3d sigma = Eigen::Matrix3d::Zero();
+    sigma.topLeftCorner<2, 2>() = plane_stress(f, k) * f.transpose() / j;
+    sigma(2, 2) = k.lambda * plane_green(f).trace() / j;
+    return sigma;
+  }
 };
 
 struct NeoHookean {
@@ -64,6 +111,44 @@ struct NeoHookean {
     return k.mu / 3.0 * std::pow(f, -5.0 / 3.0) * (1 - f * f) + bulk(k) * (f - 1);
   }
   static double uniaxial_lowest_f() { return 0.0; }
+
+  static double plane_energy(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const double j = f.determinant(), i1 = (f.array() * f.array()).sum() + 1;
+    return 0.5 * k.mu * (std::pow(j, -2.0 / 3.0) * i1 - 3) + 0.5 * bulk(k) * (j - 1) * (j - 1);
+  }
+  static Eigen::Matrix2d plane_stress(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const double j = f.determinant(), i1 = (f.array() * f.array()).sum() + 1;
+    const Eigen::Matrix2d g = f.inverse().transpose();
+    return k.mu * std::pow(j, -2.0 / 3.0) * (f - i1 / 3 * g) + bulk(k) * j * (j - 1) * g;
+  }
+  // d(J^-2/3) = -(2/3) J^-2/3 G : dF, dI1 = 2 F : dF, dG_iJ = -G_iL G_kJ dF_kL,
+  // dJ = J G : dF.
+  static PlaneTangent plane_tangent(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const double j = f.determinant(), i1 = (f.array() * f.array()).sum() + 1;
+    const double a = std::pow(j, -2.0 / 3.0), kappa = bulk(k);
+    const Eigen::Matrix2d g = f.inverse().transpose();
+    PlaneTangent t{};
+    for (int i = 0; i < 2; ++i)
+      for (int J = 0; J < 2; ++J)
+        for (int kk = 0; kk < 2; ++kk)
+          for (int L = 0; L < 2; ++L) {
+            const double dev = (i == kk && J == L ? 1.0 : 0.0) - 2.0 / 3.0 * f(i, J) * g(kk, L) -
+                               2.0 / 3.0 * f(kk, L) * g(i, J) +
+                               2.0 / 9.0 * i1 * g(kk, L) * g(i, J) + i1 / 3 * g(i, L) * g(kk, J);
+            const double vol =
+                (2 * j - 1) * j * g(kk, L) * g(i, J) - j * (j - 1) * g(i, L) * g(kk, J);
+            t[i][J][kk][L] = k.mu * a * dev + kappa * vol;
+          }
+    return t;
+  }
+  // sigma = mu J^(-5/3) dev(b) + kappa (J - 1) I, b = F F^T with b_zz = 1.
+  static Eigen::Matrix3d plane_cauchy(const Eigen::Matrix2d& f, const LameModuli& k) {
+    const double j = f.determinant();
+    Eigen::Matrix3d b = Eigen::Matrix3d::Identity();
+    b.topLeftCorner<2, 2>() = f * f.transpose();
+    const Eigen::Matrix3d dev = b - b.trace() / 3 * Eigen::Matrix3d::Identity();
+    return k.mu * std::pow(j, -5.0 / 3.0) * dev + bulk(k) * (j - 1) * Eigen::Matrix3d::Identity();
+  }
 };
 
 }  // namespace dgmpm

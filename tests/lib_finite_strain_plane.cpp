@@ -1,0 +1,180 @@
+// lib/: the plane-strain forms of the hyperelastic laws (F_zz = 1) and their acoustic tensor, the
+// ground 2D finite strain stands on. Against independent routes written here: the 3D energies of
+// the laws (SVK from E, neo-Hookean from J and I1, with a unit F_zz), differentiated by central
+// differences for P = dW/dF and A = dP/dF; the uniaxial forms of the 1D physics along x; small
+// strain at F = I (A(e_x) = diag(lambda + 2 mu, mu)); frame invariance (P(QF) = Q P(F),
+// A(QF, N) = Q A(F, N) Q^T); the symmetric Cauchy stress; the impedance's square; and the largest
+// wave speed over directions against a dense scan.
+#define BOOST_TEST_MODULE finite_strain_plane
+#include <boost/test/unit_test.hpp>
+
+#include <dgmpm/physics/acoustic.hpp>
+#include <dgmpm/physics/hyperelastic_laws.hpp>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace dgmpm;
+
+namespace {
+
+constexpr double E = 2e11, nu = 0.3, rho0 = 7800;
+const LameModuli k = LameModuli::from_young(E, nu);
+const double M = k.lambda + 2 * k.mu, kappa = k.lambda + 2 * k.mu / 3;
+
+// The 3D energies, with F = [[F, 0], [0, 1]].
+double svk_energy(const Eigen::Matrix2d& f) {
+  Eigen::Matrix3d g = Eigen::Matrix3d::Identity();
+  g.topLeftCorner<2, 2>() = f;
+  const Eigen::Matrix3d e = 0.5 * (g.transpose() * g - Eigen::Matrix3d::Identity());
+  return 0.5 * k.lambda * e.trace() * e.trace() + k.mu * (e * e.transpose()).trace();
+}
+double nh_energy(const Eigen::Matrix2d& f) {
+  Eigen::Matrix3d g = Eigen::Matrix3d::Identity();
+  g.topLeftCorner<2, 2>() = f;
+  const double j = g.determinant();
+  return 0.5 * k.mu * (std::pow(j, -2.0 / 3.0) * (g.transpose() * g).trace() - 3) +
+         0.5 * kappa * (j - 1) * (j - 1);
+}
+
+// Deformation gradients near I and far from it (stretches to 1.5, shears to 0.4, J from 0.6).
+std::vector<Eigen::Matrix2d> gradients() {
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> u(-0.4, 0.4);
+  std::vector<Eigen::Matrix2d> out{Eigen::Matrix2d::Identity()};
+  for (int n = 0; n < 12; ++n) {
+    const double scale = n < 4 ? 0.01 : 1.0;
+    Eigen::Matrix2d f = Eigen::Matrix2d::Identity();
+    for (int i = 0; i < 4; ++i) f(i / 2, i % 2) += scale * u(gen);
+    if (f.determinant() > 0.6) out.push_back(f);
+  }
+  return out;
+}
+
+template <class Law, class W>
+void check_derivatives(const W& energy) {
+  const double d = 1e-6;
+  for (const Eigen::Matrix2d& f : gradients()) {
+    const Eigen::Matrix2d p = Law::plane_stress(f, k);
+    const PlaneTangent a = Law::plane_tangent(f, k);
+    BOOST_TEST(Law::plane_energy(f, k) == energy(f), boost::test_tools::tolerance(1e-9));
+    for (int kk = 0; kk < 2; ++kk)
+      for (int L = 0; L < 2; ++L) {
+        Eigen::Matrix2d df = Eigen::Matrix2d::Zero();
+        df(kk, L) = d;
+        // P = dW/dF and A = dP/dF by central differences, to 1e-6 of M (truncation d^2, round-off
+        // 1e-16 / d of the energies' scale).
+        BOOST_TEST(std::abs(p(kk, L) - (energy(f + df) - energy(f - df)) / (2 * d)) <= 1e-6 * M);
+        const Eigen::Matrix2d dp =
+            (Law::plane_stress(f + df, k) - Law::plane_stress(f - df, k)) / (2 * d);
+        for (int i = 0; i < 2; ++i)
+          for (int J = 0; J < 2; ++J) {
+            BOOST_TEST(std::abs(a[i][J][kk][L] - dp(i, J)) <= 1e-6 * M);
+            BOOST_TEST(std::abs(a[i][J][kk][L] - a[kk][L][i][J]) <= 1e-12 * M);  // major symmetry
+          }
+      }
+  }
+}
+
+Eigen::Matrix2d rotation(double t) {
+  Eigen::Matrix2d q;
+  q << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+  return q;
+}
+
+template <class Law>
+void check_invariance() {
+  for (const Eigen::Matrix2d& f : gradients()) {
+    const Eigen::Matrix2d q = rotation(0.7);
+    const Eigen::Matrix2d p = Law::plane_stress(f, k), pq = Law::plane_stress(q * f, k);
+    BOOST_TEST((pq - q * p).norm() <= 1e-12 * M);
+    const Eigen::Vector2d n(std::cos(0.3), std::sin(0.3));
+    const Eigen::Matrix2d a = acoustic_tensor(Law::plane_tangent(f, k), n);
+    const Eigen::Matrix2d aq = acoustic_tensor(Law::plane_tangent(q * f, k), n);
+    BOOST_TEST((aq - q * a * q.transpose()).norm() <= 1e-11 * M);
+    const Eigen::Matrix3d sigma = Law::plane_cauchy(f, k);
+    BOOST_TEST(std::abs(sigma(0, 1) - sigma(1, 0)) <= 1e-12 * M);  // balance of angular momentum
+    // In plane, sigma = P F^T / J.
+    const Eigen::Matrix2d in_plane = p * f.transpose() / f.determinant();
+    BOOST_TEST((sigma.topLeftCorner<2, 2>() - in_plane).norm() <= 1e-12 * M);
+  }
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(stress_and_tangent_are_the_energy_derivatives) {
+  check_derivatives<SaintVenantKirchhoff>(svk_energy);
+  check_derivatives<NeoHookean>(nh_energy);
+}
+
+BOOST_AUTO_TEST_CASE(laws_are_frame_invariant_with_symmetric_cauchy_stress) {
+  check_invariance<SaintVenantKirchhoff>();
+  check_invariance<NeoHookean>();
+}
+
+// Along x with F = diag(f, 1) the plane forms are the 1D physics' uniaxial ones, and sigma_zz
+// its lateral stress.
+BOOST_AUTO_TEST_CASE(uniaxial_deformation_gives_the_1d_forms) {
+  for (double f : {0.8, 1.0, 1.07, 1.3}) {
+    const Eigen::Matrix2d g = Eigen::Vector2d(f, 1.0).asDiagonal();
+    const auto check = [&](auto law) {
+      using Law = decltype(law);
+      BOOST_TEST(Law::plane_stress(g, k)(0, 0) == Law::uniaxial_stress(f, k),
+                 boost::test_tools::tolerance(1e-12));
+      BOOST_TEST(Law::plane_tangent(g, k)[0][0][0][0] == Law::uniaxial_tangent(f, k),
+                 boost::test_tools::tolerance(1e-12));
+      const Eigen::Matrix3d sigma = Law::plane_cauchy(g, k);
+      BOOST_TEST(std::abs(sigma(1, 1) - Law::uniaxial_lateral_stress(f, k)) <= 1e-12 * M);
+      BOOST_TEST(std::abs(sigma(2, 2) - Law::uniaxial_lateral_stress(f, k)) <= 1e-12 * M);
+    };
+    check(SaintVenantKirchhoff{});
+    check(NeoHookean{});
+  }
+}
+
+// At F = I both laws are small-strain elasticity: A(e_x) = diag(M, mu), speeds c_p and c_s in
+// every direction, Z(e_x) = diag(rho0 c_p, rho0 c_s).
+BOOST_AUTO_TEST_CASE(small_strain_at_the_reference) {
+  const Eigen::Matrix2d id = Eigen::Matrix2d::Identity();
+  for (const PlaneTangent& a :
+       {SaintVenantKirchhoff::plane_tangent(id, k), NeoHookean::plane_tangent(id, k)}) {
+    const Eigen::Matrix2d ax = acoustic_tensor(a, Eigen::Vector2d(1, 0));
+    BOOST_TEST(ax(0, 0) == M, boost::test_tools::tolerance(1e-14));
+    BOOST_TEST(ax(1, 1) == k.mu, boost::test_tools::tolerance(1e-14));
+    BOOST_TEST(std::abs(ax(0, 1)) <= 1e-14 * M);
+    const Eigen::Matrix2d z = impedance_tensor(ax, rho0);
+    BOOST_TEST(z(0, 0) == std::sqrt(rho0 * M), boost::test_tools::tolerance(1e-14));
+    BOOST_TEST(z(1, 1) == std::sqrt(rho0 * k.mu), boost::test_tools::tolerance(1e-14));
+    BOOST_TEST(max_wave_speed(a, rho0) == std::sqrt(M / rho0), boost::test_tools::tolerance(1e-14));
+  }
+}
+
+// Z is the symmetric root of rho0 A; the largest speed over directions is at least a dense scan's
+// and within its resolution; a tangent that is not positive definite gives NaN.
+BOOST_AUTO_TEST_CASE(impedance_and_largest_speed) {
+  for (const Eigen::Matrix2d& f : gradients())
+    for (const PlaneTangent& a :
+         {SaintVenantKirchhoff::plane_tangent(f, k), NeoHookean::plane_tangent(f, k)}) {
+      const Eigen::Matrix2d q = acoustic_tensor(a, Eigen::Vector2d(0.6, 0.8));
+      const Eigen::Matrix2d z = impedance_tensor(q, rho0);
+      BOOST_TEST((z - z.transpose()).norm() <= 1e-12 * z.norm());
+      BOOST_TEST((z * z - rho0 * q).norm() <= 1e-12 * rho0 * q.norm());
+      double scan = 0;
+      constexpr int kScan = 20000;  // lambda_max within (pi / kScan)^2 / 2 relative of the max
+      for (int s = 0; s < kScan; ++s) {
+        const double t = M_PI * s / kScan;
+        const Eigen::Matrix2d qt = acoustic_tensor(a, Eigen::Vector2d(std::cos(t), std::sin(t)));
+        scan = std::max(scan, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(qt).eigenvalues()[1]);
+      }
+      const double c = max_wave_speed(a, rho0), c_scan = std::sqrt(scan / rho0);
+      BOOST_TEST(c >= c_scan * (1 - 1e-14));
+      BOOST_TEST(c <= c_scan * (1 + 1e-8));
+    }
+  // SVK compressed uniaxially past 1/sqrt(3): no real longitudinal speed.
+  const Eigen::Matrix2d crushed = Eigen::Vector2d(0.5, 1.0).asDiagonal();
+  const PlaneTangent a = SaintVenantKirchhoff::plane_tangent(crushed, k);
+  BOOST_TEST(std::isnan(max_wave_speed(a, rho0)));
+  BOOST_TEST(std::isnan(impedance_tensor(acoustic_tensor(a, Eigen::Vector2d(1, 0)), rho0)(0, 0)));
+}
