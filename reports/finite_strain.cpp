@@ -3,6 +3,9 @@
 #include "reports/report_io.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
+#include "stability/gsl_guard.hpp"
+
+#include <gsl/gsl_roots.h>
 
 #include <nlohmann/json.hpp>
 
@@ -83,19 +86,23 @@ nlohmann::json scene_of(const Case& c, const Method& m, int cells) {
   return doc;
 }
 
-double bisect(const std::function<double(double)>& g, double a, double b) {
-  double ga = g(a);
-  for (int k = 0; k < 200; ++k) {
-    const double m = 0.5 * (a + b), gm = g(m);
-    if (m == a || m == b) break;
-    if ((gm > 0) == (ga > 0)) {
-      a = m;
-      ga = gm;
-    } else {
-      b = m;
+// The root of g on [a, b] (g(a), g(b) of opposite signs) by GSL's Brent solver, to 1e-15
+// relative.
+double root(const std::function<double(double)>& g, double a, double b) {
+  const stability::GslErrorsAsCodes guard;
+  gsl_function f{[](double x, void* p) { return (*static_cast<decltype(&g)>(p))(x); },
+                 const_cast<void*>(static_cast<const void*>(&g))};
+  gsl_root_fsolver* solver = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+  double x = 0.5 * (a + b);
+  if (gsl_root_fsolver_set(solver, &f, a, b) == GSL_SUCCESS)
+    for (int k = 0; k < 200; ++k) {
+      if (gsl_root_fsolver_iterate(solver) != GSL_SUCCESS) break;
+      x = gsl_root_fsolver_root(solver);
+      const double lo = gsl_root_fsolver_x_lower(solver), hi = gsl_root_fsolver_x_upper(solver);
+      if (gsl_root_test_interval(lo, hi, 0.0, 1e-15) == GSL_SUCCESS) break;
     }
-  }
-  return 0.5 * (a + b);
+  gsl_root_fsolver_free(solver);
+  return x;
 }
 
 // The exact F(X, t): a shock (tension, impact) at speed s behind which F = f, or (compression)
@@ -108,13 +115,13 @@ struct Exact {
   explicit Exact(const Case& c) {
     if (c.speed > 0) {  // v* = 0: F* = 1 - v0 / s with P(F*) = -rho0 v0 s
       impact = true;
-      s = bisect(
+      s = root(
           [&](double x) { return P::nominal_stress(1 - c.speed / x, m) + kDensity * c.speed * x; },
           1000, 20000);
       f = 1 - c.speed / s;
     } else {
-      f = bisect([&](double x) { return P::nominal_stress(x, m) - c.load; }, c.load > 0 ? 1.0 : 0.6,
-                 c.load > 0 ? 2.0 : 1.0);
+      f = root([&](double x) { return P::nominal_stress(x, m) - c.load; }, c.load > 0 ? 1.0 : 0.6,
+               c.load > 0 ? 2.0 : 1.0);
       fan = c.load < 0;
       if (fan) {
         head = P::wave_speed(1.0, m);
@@ -131,7 +138,7 @@ struct Exact {
     const double xi = x / t;
     if (xi >= head) return 1.0;
     if (xi <= tail) return f;
-    return bisect([&](double g) { return P::tangent(g, m) - kDensity * xi * xi; }, f, 1.0);
+    return root([&](double g) { return P::tangent(g, m) - kDensity * xi * xi; }, f, 1.0);
   }
 };
 

@@ -11,6 +11,8 @@
 #define BOOST_TEST_MODULE finite_strain
 #include <boost/test/unit_test.hpp>
 
+#include "common/hyperelastic.hpp"
+
 #include <dgmpm/physics/contract.hpp>
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/physics/finite_strain_bar.hpp>
@@ -31,33 +33,9 @@ static_assert(physics::HasEnergy<SVK>);
 
 namespace {
 
-constexpr double E = 2e11, nu = 0.3, rho0 = 7800;
-const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-const double M = lambda + 2 * mu, kappa = lambda + 2 * mu / 3;
-
-// The uniaxial laws as written in the test (independent of hyperelastic_laws.hpp's forms).
-double svk_stress(double f) {
-  return 0.5 * M * f * (f * f - 1);
-}
-double nh_energy(double f) {  // W with F = diag(f, 1, 1), J = f, tr(F^T F) = f^2 + 2
-  return 0.5 * mu * (std::cbrt(1 / (f * f)) * (f * f + 2) - 3) + 0.5 * kappa * (f - 1) * (f - 1);
-}
-
-// The root of g on [a, b] (g(a), g(b) of opposite signs), to round-off.
-double bisect(const std::function<double(double)>& g, double a, double b) {
-  double ga = g(a);
-  for (int k = 0; k < 200; ++k) {
-    const double m = 0.5 * (a + b), gm = g(m);
-    if (m == a || m == b) break;
-    if ((gm > 0) == (ga > 0)) {
-      a = m;
-      ga = gm;
-    } else {
-      b = m;
-    }
-  }
-  return 0.5 * (a + b);
-}
+constexpr double E = test::kYoung, nu = test::kPoisson, rho0 = test::kRho0;
+const double lambda = test::kLambda, mu = test::kMu, M = test::kM, kappa = test::kKappa;
+using test::bisect, test::nh_energy, test::svk_stress;
 
 // A half-space X >= 0 (a bar of `length`, long enough that no wave reaches its far end) at rest
 // and unstrained, one particle per cell, under a nominal stress `load` at X = 0.

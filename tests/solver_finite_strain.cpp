@@ -11,6 +11,7 @@
 #define BOOST_TEST_MODULE solver_finite_strain
 #include <boost/test/unit_test.hpp>
 
+#include "common/hyperelastic.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
 
@@ -32,38 +33,9 @@ using NH = FiniteStrainBar<NeoHookean>;
 
 namespace {
 
-constexpr double E = 2e11, nu = 0.3, rho0 = 7800;
-const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-const double M = lambda + 2 * mu, kappa = lambda + 2 * mu / 3;
-
-// The uniaxial laws, written here: nominal stress and tangent.
-double svk_stress(double f) {
-  return 0.5 * M * f * (f * f - 1);
-}
-double svk_tangent(double f) {
-  return 0.5 * M * (3 * f * f - 1);
-}
-double nh_stress(double f) {
-  return 2 * mu / 3 * std::pow(f, -5.0 / 3) * (f * f - 1) + kappa * (f - 1);
-}
-double nh_tangent(double f) {
-  return 2 * mu / 9 * std::pow(f, -8.0 / 3) * (f * f + 5) + kappa;
-}
-
-double bisect(const std::function<double(double)>& g, double a, double b) {
-  double ga = g(a);
-  for (int k = 0; k < 200; ++k) {
-    const double m = 0.5 * (a + b), gm = g(m);
-    if (m == a || m == b) break;
-    if ((gm > 0) == (ga > 0)) {
-      a = m;
-      ga = gm;
-    } else {
-      b = m;
-    }
-  }
-  return 0.5 * (a + b);
-}
+constexpr double rho0 = test::kRho0;
+const double M = test::kM;
+using test::bisect, test::nh_stress, test::nh_tangent, test::svk_stress, test::svk_tangent;
 
 json shipped(const std::string& name) {
   std::ifstream in(std::string(DGMPM_TEST_SOURCE_DIR) + "/scenes/" + name + ".json");
