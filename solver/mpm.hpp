@@ -21,8 +21,6 @@
 #include <algorithm>
 #include <array>
 #include <sstream>
-#include <stdexcept>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -362,22 +360,5 @@ class Mpm {
   Eigen::VectorXd mass_;
   NodalVectors vel_old_, vel_new_, vel_musl_, force_;
 };
-
-// What a simulation holds for a physics the MPM baseline does not model yet (finite strain: the
-// scene parser refuses an MPM method with it), so that the solver compiles; never constructed.
-template <class Physics>
-struct NoMpm {
-  template <class... Args>
-  explicit NoMpm(Args&&...) {
-    throw std::logic_error("the MPM baseline has no model of this physics");
-  }
-  template <class... Args>
-  void step(Args&&...) {}
-  double load_work() const { return 0.0; }
-  void set_load_work(double) {}
-};
-
-template <class Physics>
-using MpmOf = std::conditional_t<physics::MpmConstitutive<Physics>, Mpm<Physics>, NoMpm<Physics>>;
 
 }  // namespace dgmpm

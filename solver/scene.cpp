@@ -366,6 +366,12 @@ class Parser {
     if (s.exact)
       refuse("exact", doc["exact"], "is not available " + fs + " (the exact bar is small-strain)",
              "no exact key (the finite-strain tests compute their exact solutions)");
+    if (s.time.check_scene_every > 0)
+      refuse("time.check_scene_every", doc["time"]["check_scene_every"],
+             "is not available " + fs +
+                 ": the check evaluates the whole scene's step as a linear map, and a "
+                 "finite-strain step is not one",
+             "0 (the automatic step reads the particles' speeds every step)");
     if (s.time.courant_auto && !doc["time"].contains("safety")) s.time.safety = kFiniteStrainSafety;
     // The hyperbolic range of each material: F above lowest_f, nominal stresses above lowest_p.
     const auto law = [&](const MaterialSpec& m, auto&& f) {

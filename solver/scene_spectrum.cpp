@@ -165,6 +165,13 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
   if (scene.method != scene::Method::dgmpm)
     throw scene::SceneError(scene.source + ": method: value \"" + scene::to_string(scene.method) +
                             "\" has no DGMPM operator to analyse; allowed: \"dgmpm\"");
+  for (const auto& m : scene.materials)
+    if (m.finite_strain())
+      throw scene::SceneError(
+          scene.source + ": materials." + m.name + ".model: value \"" + m.model +
+          "\" has no linear scene operator to analyse (a finite-strain step is not a linear "
+          "map); allowed: small-strain materials (`dgmpm courant` gives a layout's C*, which "
+          "the finite-strain automatic step uses)");
   return with_physics(scene, [&](auto physics) {
     return analyse<typename decltype(physics)::type>(scene, tolerance);
   });

@@ -6,7 +6,6 @@
 
 #include "solver/communicator.hpp"
 #include "solver/halo.hpp"
-#include "solver/mpm.hpp"
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
 #include "solver/time_step_control.hpp"
@@ -25,6 +24,9 @@
 #include <vector>
 
 namespace dgmpm {
+
+template <class Physics>
+class Mpm;
 
 struct ErrorNorms {
   double l1 = 0, l2 = 0, max = 0;  // relative, see relative_errors()
@@ -256,7 +258,7 @@ class Simulation final : public SimulationBase {
   scene::Scene scene_;
   Problem<Physics> problem_;
   std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
-  std::unique_ptr<MpmOf<Physics>> mpm_;        // MPM baseline
+  std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
   std::unique_ptr<Halo<ParticleSet>> halo_;    // distributed runs
   int total_particles_ = 0, total_cells_ = 0;
   double setup_seconds_ = 0;  // the constructor's wall time

@@ -146,8 +146,8 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
                               scene::to_string(scene_.method) +
                               "\"; allowed: a positive number (the stability analysis is DGMPM's)");
     dt_ = scene_.time.courant * h / problem_.max_wave_speed();
-    mpm_ = std::make_unique<MpmOf<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
-                                            mpm_variant(scene_.method), scene_.update);
+    mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
+                                          mpm_variant(scene_.method), scene_.update);
   }
   warn_about_untouched_loads();
   if (ranks && ranks->size() > 1) distribute(*ranks);

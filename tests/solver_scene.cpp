@@ -575,6 +575,9 @@ BOOST_AUTO_TEST_CASE(refuses_what_finite_strain_cannot_mean) {
   BOOST_TEST(parse_scene(doc, "scene.json").time.safety == dgmpm::kFiniteStrainSafety);
   doc["time"]["safety"] = 1.0;
   BOOST_TEST(parse_scene(doc, "scene.json").time.safety == 1.0);
+  doc["time"]["check_scene_every"] = 10;
+  check_refused(
+      doc, {"time.check_scene_every: value 10 is not available with finite-strain", "not one"});
 
   doc = finite();
   doc["materials"]["steel"]["yield_stress"] = 4e8;

@@ -66,6 +66,21 @@ BOOST_AUTO_TEST_CASE(mpm_scenes_are_refused) {
   BOOST_CHECK_THROW(analyse_scene_spectrum(scene::parse_scene(doc)), scene::SceneError);
 }
 
+// A finite-strain step is not a linear map: no whole-scene operator, refused naming the model.
+BOOST_AUTO_TEST_CASE(finite_strain_scenes_are_refused) {
+  json doc = bar(8, {{"particles_per_cell", 1}}, true, "euler");
+  for (auto& [name, m] : doc["materials"].items()) m["model"] = "neo_hookean";
+  for (auto& b : doc["bodies"]) b.erase("stress");
+  try {
+    analyse_scene_spectrum(scene::parse_scene(doc));
+    BOOST_ERROR("no SceneError");
+  } catch (const scene::SceneError& e) {
+    BOOST_TEST(std::string(e.what()).find("model: value \"neo_hookean\" has no linear scene "
+                                          "operator") != std::string::npos,
+               e.what());
+  }
+}
+
 // A small 2D plate with free, traction and roller edges, one particle per cell at the centre:
 // the whole scene's limit agrees with the layout analysis of its cells (C* = 1 for DCU with RK2
 // and CTU with Euler), to the percent that the boundaries may add.
