@@ -377,11 +377,6 @@ void Simulation<Physics>::step(double dt) {
   try {
     if (mpm_) {
       mpm_->step(particles, time_, dt, scene_.particles_move);
-      if constexpr (state_dependent_speed) {  // C h / c at the particles' new speeds
-        max_speed_ = problem_.max_wave_speed();
-        dt_ = scene_.time.courant * cell_size() / max_speed_;
-        check_hyperbolic(steps_ + 1, time_ + dt);
-      }
     } else {
       finite = stepper_->step(particles, problem_.materials, time_, dt);
       if (scene_.particles_move) {
@@ -393,10 +388,6 @@ void Simulation<Physics>::step(double dt) {
       } else if (halo_) {
         halo_->exchange_states(particles);
       }
-      // A new step where the layouts (moving particles, automatic step) or the speeds (finite
-      // strain) have changed.
-      if (scene_.particles_move ? time_control_->automatic() : state_dependent_speed)
-        choose_time_step(steps_ + 1, time_ + dt);
     }
   } catch (const ParticleOutsideGrid& e) {
     throw std::runtime_error(format_step(steps_ + 1, time_ + dt) + ": " + e.what() + " " +
@@ -406,6 +397,17 @@ void Simulation<Physics>::step(double dt) {
   ++steps_;
   // With finite states, positions moved by dt v are finite or outside the grid (thrown above).
   if (!finite) check_finite();
+  // A new step where the layouts (moving particles, automatic step) or the speeds (finite strain)
+  // have changed.
+  if (mpm_) {
+    if constexpr (state_dependent_speed) {  // C h / c at the particles' new speeds
+      max_speed_ = problem_.max_wave_speed();
+      dt_ = scene_.time.courant * cell_size() / max_speed_;
+      check_hyperbolic(steps_, time_);
+    }
+  } else if (scene_.particles_move ? time_control_->automatic() : state_dependent_speed) {
+    choose_time_step(steps_, time_);
+  }
   if (loaded_) {
     const double power = load_power();
     work_ += 0.5 * dt * (power_ + power);

@@ -63,6 +63,30 @@ assert summary["reason"] == printed["reason"], summary
 assert summary["units"]["energy"] == "J/m^2" and summary["units"]["stress"] == "Pa", summary
 assert summary["steps"] >= 16, summary
 
+# Finite strain compressed past Saint Venant-Kirchhoff's hyperbolic range (a bar at F = 0.7
+# pushed at 400 m/s): exit 1 naming the step, particle and F, with the record of a failed run.
+scene = json.loads((source / "scenes" / "svk_shock_2gpa.json").read_text())
+scene["bodies"][0]["deformation_gradient"] = [0.7]
+scene["boundaries"]["xmin"] = {"type": "velocity", "value": 400.0}
+scene["output"] = {"directory": str(work / "hyperbolic"), "times": [1e-7, 1e-3],
+                   "formats": ["csv", "vtu"]}
+scene["time"]["end"] = 1e-3
+path = work / "hyperbolic.json"
+path.write_text(json.dumps(scene))
+run = subprocess.run([binary, "run", str(path), "--json"], capture_output=True, text=True)
+assert run.returncode == 1, (run.returncode, run.stderr)
+hyperbolic = json.loads(run.stdout)
+reason = hyperbolic["reason"]
+assert hyperbolic["status"] == "failed", hyperbolic
+assert re.match(r"step \d+, t = \S+: particle 0 has left its material's hyperbolic range",
+                reason), reason
+f_stop = float(re.search(r"F = (\S+),", reason).group(1))
+assert 0.5 < f_stop < 3 ** -0.5, reason
+hyperbolic_record = check_record(work / "hyperbolic", "failed")
+assert hyperbolic_record["reason"] == reason, hyperbolic_record
+with open(work / "hyperbolic" / "energy.csv") as history:
+    assert next(csv.reader(history))[-1] == "max_wave_speed"
+
 # SIGTERM: a long run stopped once it has said where it is (its stderr is not a terminal: a new
 # progress line every 10 s, as a batch job's log gets); the record shows where it stopped.
 scene = dict(base)
@@ -264,7 +288,8 @@ r = subprocess.run([binary, "run", str(work / "plate_ext.json"), "--restart",
                    capture_output=True, text=True)
 assert r.returncode == 2 and "differs at /output/times" in r.stderr, r.stderr
 
-print("run records: blow-up at step %d, SIGTERM at step %d, SIGKILL after %d history rows, "
-      "%d progress estimates within a factor 2 of the time left; restarts in place, elsewhere and "
-      "extended: %d particle files identical" %
-      (printed["steps"], summary["steps"], killed_rows, len(estimates), extended))
+print("run records: blow-up at step %d, finite strain past its range at step %d, SIGTERM at "
+      "step %d, SIGKILL after %d history rows, %d progress estimates within a factor 2 of the "
+      "time left; restarts in place, elsewhere and extended: %d particle files identical" %
+      (printed["steps"], hyperbolic["steps"], summary["steps"], killed_rows, len(estimates),
+       extended))
