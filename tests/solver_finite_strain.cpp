@@ -335,3 +335,36 @@ BOOST_AUTO_TEST_CASE(mpm_baseline_on_the_same_scenes) {
     BOOST_TEST(r.u[i] == 25.0 * r.time, boost::test_tools::tolerance(1e-12));
   }
 }
+
+// Boundaries in the reference configuration: the velocity the 2 GPa shock leaves behind,
+// prescribed at X = 0, makes the same shock (P = 2 GPa behind it); a traction ramped to 2 GPa by
+// a time table reaches the same plateau once the ramp is over; a fixed far end reflects the
+// shock, after which the material there is at rest and stretched further.
+BOOST_AUTO_TEST_CASE(boundaries_in_the_reference_configuration) {
+  const double load = 2e9;
+  const double f = bisect([&](double x) { return svk_stress(x) - load; }, 1.0, 1.5);
+  const double s = std::sqrt(load / (rho0 * (f - 1))), v = -s * (f - 1);
+  json doc = shipped("svk_shock_2gpa");
+  doc["boundaries"]["xmin"] = {{"type", "velocity"}, {"value", v}};
+  Run r = run<SVK>(doc, svk_tangent, svk_stress);
+  Means m = means(r, 0.5, s * r.time - 0.5);
+  BOOST_TEST(m.p == load, boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(m.f == f, boost::test_tools::tolerance(1e-3 * (f - 1) / f));
+
+  doc = shipped("svk_shock_2gpa");
+  doc["boundaries"]["xmin"] = {{"type", "traction"},
+                               {"value", {{0.0, 0.0}, {1e-4, load}, {1.0, load}}}};
+  r = run<SVK>(doc, svk_tangent, svk_stress);
+  m = means(r, 0.1, s * (r.time - 1e-4) - 0.5);  // behind the end of the ramp
+  BOOST_TEST(m.p == load, boost::test_tools::tolerance(1e-3));
+
+  doc = shipped("svk_shock_2gpa");
+  doc["boundaries"]["xmax"] = {{"type", "fixed"}};
+  doc["time"]["end"] = 1.2e-3;  // the shock reaches X = 6 m at 1.02e-3 s
+  r = run<SVK>(doc, svk_tangent, svk_stress);
+  const auto last = r.v.size() - 1;
+  BOOST_TEST_MESSAGE("fixed end after the reflection: v "
+                     << r.v[last] << ", F - 1 " << r.f[last] - 1 << " (incident " << f - 1 << ")");
+  BOOST_TEST(std::abs(r.v[last]) < 1e-3 * std::abs(v));
+  BOOST_TEST(r.f[last] > f + 0.5 * (f - 1));
+}
