@@ -200,7 +200,7 @@ class Simulation final : public SimulationBase {
   // time.check_scene_every: halves dt_ until the frozen scene's spectral radius is at most 1.
   void check_scene(long step, double t);
   void choose_time_step(long step, double t);
-  void check_hyperbolic(long step, double t) const requires state_dependent_speed;
+  void check_hyperbolic(long step, double t) const;  // speeds that change with the state
   double load_power() const;
   void write_particles(const std::string& path) const;
   void write_vtu(std::size_t k, const std::string& directory, const std::string& name) const;

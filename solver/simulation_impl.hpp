@@ -344,29 +344,30 @@ void Simulation<Physics>::choose_time_step(long step, double t) {
 // After time_step returned NaN on some rank: the owned particle whose state has no real wave
 // speed (its acoustic tensor is not positive definite), with its state.
 template <class Physics>
-void Simulation<Physics>::check_hyperbolic(long step,
-                                           double t) const requires state_dependent_speed {
-  const bool here = std::isnan(dt_);
-  if (!(halo_ ? halo_->comm().min(here ? 0.0 : 1.0) == 0.0 : here)) return;
-  const auto& p = problem_.particles;
-  for (int i = 0; i < owned_particles(); ++i) {
-    const auto& m = problem_.materials[p.material[i]];
-    if (Physics::state_wave_speed(p.state.col(i), m) >= 0) continue;
-    const typename Physics::State s = Physics::physical(p.state.col(i), m);
-    Eigen::Matrix<double, dim, 1> xi;
-    std::ostringstream o;
-    o << format_step(step, t) << ": particle " << p.id[i]
-      << " has left its material's hyperbolic range (its acoustic tensor is not positive "
-         "definite: no real wave speed) at X = "
-      << p.position.col(i).transpose() << " (cell " << full_grid().locate(p.position.col(i), xi)
-      << ") with ";
-    for (int k = 0; k < ncomp; ++k)
-      o << (k ? ", " : "") << Physics::state_names[k] << " = " << std::setprecision(9) << s[k];
-    o << "; the equations are no longer well posed there (a compression too strong for the "
-         "law, e.g. Saint Venant-Kirchhoff below F = 1/sqrt(3))";
-    throw std::runtime_error(o.str());
+void Simulation<Physics>::check_hyperbolic(long step, double t) const {
+  if constexpr (state_dependent_speed) {
+    const bool here = std::isnan(dt_);
+    if (!(halo_ ? halo_->comm().min(here ? 0.0 : 1.0) == 0.0 : here)) return;
+    const auto& p = problem_.particles;
+    for (int i = 0; i < owned_particles(); ++i) {
+      const auto& m = problem_.materials[p.material[i]];
+      if (Physics::state_wave_speed(p.state.col(i), m) >= 0) continue;
+      const typename Physics::State s = Physics::physical(p.state.col(i), m);
+      Eigen::Matrix<double, dim, 1> xi;
+      std::ostringstream o;
+      o << format_step(step, t) << ": particle " << p.id[i]
+        << " has left its material's hyperbolic range (its acoustic tensor is not positive "
+           "definite: no real wave speed) at X = "
+        << p.position.col(i).transpose() << " (cell " << full_grid().locate(p.position.col(i), xi)
+        << ") with ";
+      for (int k = 0; k < ncomp; ++k)
+        o << (k ? ", " : "") << Physics::state_names[k] << " = " << std::setprecision(9) << s[k];
+      o << "; the equations are no longer well posed there (a compression too strong for the "
+           "law, e.g. Saint Venant-Kirchhoff below F = 1/sqrt(3))";
+      throw std::runtime_error(o.str());
+    }
+    throw RankStopped("a particle left its hyperbolic range (another rank names it)");
   }
-  throw RankStopped("a particle left its hyperbolic range (another rank names it)");
 }
 
 template <class Physics>

@@ -113,7 +113,8 @@ double front(const Run& r, double jump) {
 // A traction P_d at X = 0 pulls toward -X: a shock to F with P(F) = P_d, speed s with
 // rho0 s^2 = P_d / (F - 1), and the material behind moving at -s (F - 1).
 BOOST_AUTO_TEST_CASE(svk_tension_shocks_reach_the_exact_plateaus) {
-  for (const auto& [name, load] : {std::pair{"svk_shock_2gpa", 2e9}, {"svk_shock_20gpa", 2e10}}) {
+  for (const auto& [name, p_d] : {std::pair{"svk_shock_2gpa", 2e9}, {"svk_shock_20gpa", 2e10}}) {
+    const double load = p_d;  // a variable the lambda below may capture
     const double f = bisect([&](double x) { return svk_stress(x) - load; }, 1.0, 1.5);
     const double s = std::sqrt(load / (rho0 * (f - 1))), v = -s * (f - 1);
     if (load == 2e9) {  // the published values
