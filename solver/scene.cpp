@@ -373,20 +373,20 @@ class Parser {
                  "finite-strain step is not one",
              "0 (the automatic step reads the particles' speeds every step)");
     if (s.time.courant_auto && !doc["time"].contains("safety")) s.time.safety = kFiniteStrainSafety;
-    // The hyperbolic range of each material: F above lowest_f, nominal stresses above lowest_p.
-    const auto law = [&](const MaterialSpec& m, auto&& f) {
-      const LameModuli k = LameModuli::from_young(m.young, m.poisson);
-      if (m.model == "saint_venant_kirchhoff") return f(SaintVenantKirchhoff{}, k);
-      return f(NeoHookean{}, k);
+    // The hyperbolic range of each material, as its physics states it: F above lowest_f, nominal
+    // stresses above lowest_p.
+    const auto physics = [&](const MaterialSpec& m, auto&& f) {
+      if (m.model == "saint_venant_kirchhoff")
+        return f(FiniteStrainBar<SaintVenantKirchhoff>{},
+                 FiniteStrainBar<SaintVenantKirchhoff>::Material(m.young, m.poisson, m.density));
+      return f(FiniteStrainBar<NeoHookean>{},
+               FiniteStrainBar<NeoHookean>::Material(m.young, m.poisson, m.density));
     };
     const auto lowest_f = [&](const MaterialSpec& m) {
-      return law(m, [](auto l, const LameModuli&) { return l.uniaxial_lowest_f(); });
+      return physics(m, [](auto p, const auto& material) { return p.lowest_f(material); });
     };
     const auto lowest_p = [&](const MaterialSpec& m) {
-      return law(m, [](auto l, const LameModuli& k) {
-        const double f = l.uniaxial_lowest_f();
-        return f > 0 ? l.uniaxial_stress(f, k) : -std::numeric_limits<double>::infinity();
-      });
+      return physics(m, [](auto p, const auto& material) { return p.lowest_stress(material); });
     };
     for (std::size_t i = 0; i < s.bodies.size(); ++i) {
       const BodySpec& b = s.bodies[i];
