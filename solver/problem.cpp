@@ -34,6 +34,11 @@ typename FiniteStrainBar<Law>::Material material_of(const scene::MaterialSpec& m
                                                     FiniteStrainBar<Law>*) {
   return {m.young, m.poisson, m.density};
 }
+template <class Law>
+typename FiniteStrainPlane<Law>::Material material_of(const scene::MaterialSpec& m,
+                                                      FiniteStrainPlane<Law>*) {
+  return {m.young, m.poisson, m.density};
+}
 
 // The initial specific state of a body's particles (the tag picks the physics' own, if any).
 ElasticBar::State initial_state(const scene::BodySpec& b, const ElasticBar::Material& m,
@@ -53,6 +58,17 @@ typename FiniteStrainBar<Law>::State initial_state(const scene::BodySpec& b,
                                                    FiniteStrainBar<Law>*) {
   const double f = b.deformation_gradient.empty() ? 1.0 : b.deformation_gradient[0];
   return FiniteStrainBar<Law>::specific(f, b.velocity[0], m);
+}
+// deformation_gradient: [F_xx, F_xy, F_yx, F_yy].
+template <class Law>
+typename FiniteStrainPlane<Law>::State
+initial_state(const scene::BodySpec& b, const typename FiniteStrainPlane<Law>::Material& m,
+              FiniteStrainPlane<Law>*) {
+  Eigen::Matrix2d f = Eigen::Matrix2d::Identity();
+  if (!b.deformation_gradient.empty())
+    f << b.deformation_gradient[0], b.deformation_gradient[1], b.deformation_gradient[2],
+        b.deformation_gradient[3];
+  return FiniteStrainPlane<Law>::specific(f, Eigen::Vector2d(b.velocity[0], b.velocity[1]), m);
 }
 
 template <int Dim>
@@ -132,6 +148,8 @@ void set_exact(const scene::Scene& scene, Problem<UniaxialStrainPlastic>&) {
 
 template <class Law>
 void set_exact(const scene::Scene&, Problem<FiniteStrainBar<Law>>&) {}  // refused by the parser
+template <class Law>
+void set_exact(const scene::Scene&, Problem<FiniteStrainPlane<Law>>&) {}  // refused by the parser
 
 void set_exact(const scene::Scene& scene, Problem<PlaneStrainPlastic>&) {
   if (scene.plane_wave || scene.exact)
@@ -300,5 +318,9 @@ template Problem<FiniteStrainBar<SaintVenantKirchhoff>>
 make_problem<FiniteStrainBar<SaintVenantKirchhoff>>(const scene::Scene&);
 template Problem<FiniteStrainBar<NeoHookean>>
 make_problem<FiniteStrainBar<NeoHookean>>(const scene::Scene&);
+template Problem<FiniteStrainPlane<SaintVenantKirchhoff>>
+make_problem<FiniteStrainPlane<SaintVenantKirchhoff>>(const scene::Scene&);
+template Problem<FiniteStrainPlane<NeoHookean>>
+make_problem<FiniteStrainPlane<NeoHookean>>(const scene::Scene&);
 
 }  // namespace dgmpm

@@ -12,6 +12,7 @@
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/physics/elastoplastic_bar.hpp>
 #include <dgmpm/physics/finite_strain_bar.hpp>
+#include <dgmpm/physics/finite_strain_plane.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 #include <dgmpm/physics/plane_strain_plastic.hpp>
 #include <dgmpm/physics/uniaxial_strain_plastic.hpp>
@@ -67,7 +68,8 @@ Problem<Physics> make_problem(const scene::Scene& scene);
 // returns f(std::type_identity<Physics>{}) for the scene's physics (1D: ElasticBar, or
 // ElastoPlasticBar when a material yields, UniaxialStrainPlastic for "strain":
 // "uniaxial_strain", FiniteStrainBar with the scene's hyperelastic law; 2D: PlaneStrain, or
-// PlaneStrainPlastic when a material yields). The parser has refused scenes that mix finite and
+// PlaneStrainPlastic when a material yields, FiniteStrainPlane with the scene's hyperelastic
+// law). The parser has refused scenes that mix finite and
 // small strain, or two laws.
 template <class F>
 decltype(auto) with_physics(const scene::Scene& scene, F&& f) {
@@ -83,6 +85,9 @@ decltype(auto) with_physics(const scene::Scene& scene, F&& f) {
       if (plastic) return f(std::type_identity<ElastoPlasticBar>{});
       return f(std::type_identity<ElasticBar>{});
     case 2:
+      if (model == "saint_venant_kirchhoff")
+        return f(std::type_identity<FiniteStrainPlane<SaintVenantKirchhoff>>{});
+      if (model == "neo_hookean") return f(std::type_identity<FiniteStrainPlane<NeoHookean>>{});
       if (plastic) return f(std::type_identity<PlaneStrainPlastic>{});
       return f(std::type_identity<PlaneStrain>{});
   }

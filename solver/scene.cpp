@@ -1,6 +1,7 @@
 #include "solver/scene.hpp"
 
 #include <dgmpm/physics/finite_strain_bar.hpp>
+#include <dgmpm/physics/finite_strain_plane.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -351,8 +352,12 @@ class Parser {
                    finite->name + "\"",
                "one law per scene (materials may differ in young, poisson and density)");
     const std::string fs = "with finite-strain material \"" + finite->name + "\"";
-    if (s.dimension != 1)
-      refuse(material_path(*finite), model, "is not available in 2D yet", "1D scenes");
+    if (s.dimension == 2 && s.flux == FluxScheme::ctu)
+      refuse("flux", doc["flux"],
+             "is not available " + fs +
+                 ": CTU's transverse split of a fluctuation needs the tangent at the entered "
+                 "cell's state, which the finite-strain physics does not provide",
+             "\"dcu\"");
     if (s.particles_move)
       refuse("particles_move", doc["particles_move"],
              "is not allowed " + fs +
@@ -373,8 +378,9 @@ class Parser {
                  "finite-strain step is not one",
              "0 (the automatic step reads the particles' speeds every step)");
     if (s.time.courant_auto && !doc["time"].contains("safety")) s.time.safety = kFiniteStrainSafety;
-    // The hyperbolic range of each material, as its physics states it: F above lowest_f, nominal
-    // stresses above lowest_p.
+    // The hyperbolic range of each material, as its physics states it (uniaxially: F above
+    // lowest_f, nominal stresses above lowest_p; a normal load on an unstrained body drives a
+    // uniaxial-strain wave, in 2D as in 1D).
     const auto physics = [&](const MaterialSpec& m, auto&& f) {
       if (m.model == "saint_venant_kirchhoff")
         return f(FiniteStrainBar<SaintVenantKirchhoff>{},
@@ -388,6 +394,19 @@ class Parser {
     const auto lowest_p = [&](const MaterialSpec& m) {
       return physics(m, [](auto p, const auto& material) { return p.lowest_stress(material); });
     };
+    // 2D: an initial F of positive determinant whose acoustic tensor is positive definite in
+    // every in-plane direction (the plane physics' own speed is finite).
+    const auto plane_speed = [&](const MaterialSpec& m, const std::vector<double>& f) {
+      const Eigen::Matrix2d g{{f[0], f[1]}, {f[2], f[3]}};
+      const auto speed = [&](auto law) {
+        using P = FiniteStrainPlane<decltype(law)>;
+        const typename P::Material material(m.young, m.poisson, m.density);
+        return P::state_wave_speed(P::specific(g, Eigen::Vector2d::Zero(), material), material);
+      };
+      if (!(g.determinant() > 0)) return std::numeric_limits<double>::quiet_NaN();
+      return m.model == "saint_venant_kirchhoff" ? speed(SaintVenantKirchhoff{})
+                                                 : speed(NeoHookean{});
+    };
     for (std::size_t i = 0; i < s.bodies.size(); ++i) {
       const BodySpec& b = s.bodies[i];
       const MaterialSpec& m = s.materials[b.material];
@@ -397,29 +416,43 @@ class Parser {
           refuse(key_path(path, "stress"), doc["bodies"][i]["stress"],
                  "is not allowed " + fs + ": its bodies start from a deformation gradient",
                  "deformation_gradient (the nominal stress follows from it), or no stress key");
+      if (b.deformation_gradient.empty()) continue;
+      const std::string outside =
+          "is outside the hyperbolic range of \"" + m.model + "\" (material \"" + m.name + "\")";
+      if (s.dimension == 2) {
+        if (!std::isfinite(plane_speed(m, b.deformation_gradient)))
+          refuse(key_path(path, "deformation_gradient"), doc["bodies"][i]["deformation_gradient"],
+                 outside, "det F > 0 and an acoustic tensor positive definite in every direction");
+        continue;
+      }
       const double lo = lowest_f(m);
-      if (!b.deformation_gradient.empty() && !(b.deformation_gradient[0] > lo))
+      if (!(b.deformation_gradient[0] > lo))
         refuse(key_path(path, "deformation_gradient"), doc["bodies"][i]["deformation_gradient"],
-               "is outside the hyperbolic range of \"" + m.model + "\" (material \"" + m.name +
-                   "\")",
+               outside,
                "F_xx > " + number_text(lo) +
                    (lo > 0 ? " (the longitudinal tangent dP/dF vanishes at 1/sqrt(3))" : ""));
     }
-    // A traction no state of the law reaches would compress past the range at the loaded edge.
+    // A normal traction no state of the law reaches would compress past the range at the loaded
+    // edge.
     double lowest = -std::numeric_limits<double>::infinity();
     const MaterialSpec* limiting = nullptr;
     for (const MaterialSpec& m : s.materials)
       if (const double p = lowest_p(m); p > lowest) lowest = p, limiting = &m;
-    for (int side = 0; side < 2 && limiting; ++side)
-      for (const BoundarySpec& b : s.boundaries[0][side])
-        if (b.kind == BoundaryKind::traction)
-          for (double p : b.values)
-            if (!(p > lowest))
-              refuse(key_path("boundaries", side_keys[side]), doc["boundaries"][side_keys[side]],
-                     "prescribes a nominal stress " + number_text(p) + " Pa that \"" +
-                         limiting->model + "\" (material \"" + limiting->name +
-                         "\") reaches only past its hyperbolic range",
-                     "nominal stresses above " + number_text(lowest) + " Pa (P at F = 1/sqrt(3))");
+    const auto d = static_cast<std::size_t>(s.dimension);
+    for (int axis = 0; axis < s.dimension && limiting; ++axis)
+      for (int side = 0; side < 2; ++side)
+        for (const BoundarySpec& b : s.boundaries[axis][side])
+          if (b.kind == BoundaryKind::traction)
+            for (std::size_t k = 0; k < b.values.size(); k += d)
+              if (!(b.values[k] > lowest)) {
+                const std::string key = side_keys[2 * axis + side];
+                refuse(key_path("boundaries", key), doc["boundaries"][key],
+                       "prescribes a normal nominal stress " + number_text(b.values[k]) +
+                           " Pa that \"" + limiting->model + "\" (material \"" + limiting->name +
+                           "\") reaches only past its hyperbolic range",
+                       "normal nominal stresses above " + number_text(lowest) +
+                           " Pa (P at F = 1/sqrt(3))");
+              }
   }
 
   static std::string number_text(double x) {
@@ -870,12 +903,11 @@ class Parser {
     if (const json* st = find(b, "stress"))
       body.stress = numbers(*st, key_path(path, "stress"), ns,
                             s.dimension == 1 ? "sigma" : "independent stress components");
-    if (const json* f = find(b, "deformation_gradient")) {
-      if (s.dimension != 1)
-        refuse(key_path(path, "deformation_gradient"), *f, "is not available in 2D yet",
-               "1D scenes ([F_xx])");
-      body.deformation_gradient = numbers(*f, key_path(path, "deformation_gradient"), 1, "[F_xx]");
-    }
+    if (const json* f = find(b, "deformation_gradient"))
+      body.deformation_gradient =
+          s.dimension == 1
+              ? numbers(*f, key_path(path, "deformation_gradient"), 1, "[F_xx]")
+              : numbers(*f, key_path(path, "deformation_gradient"), 4, "[F_xx, F_xy, F_yx, F_yy]");
     return body;
   }
 

@@ -9,6 +9,9 @@ extern template class Simulation<UniaxialStrainPlastic>;
 // Instantiated in simulation_finite_strain.cpp.
 extern template class Simulation<FiniteStrainBar<SaintVenantKirchhoff>>;
 extern template class Simulation<FiniteStrainBar<NeoHookean>>;
+// Instantiated in simulation_finite_strain_plane.cpp.
+extern template class Simulation<FiniteStrainPlane<SaintVenantKirchhoff>>;
+extern template class Simulation<FiniteStrainPlane<NeoHookean>>;
 
 StepperOptions stepper_options(const scene::Scene& scene) {
   return {scene.time.integrator, scene.flux, scene.formulation};

@@ -110,29 +110,35 @@ std::vector<PointData> point_data(const ParticleSet& particles,
   std::vector<PointData> data;
   const auto fields = [&](const Eigen::MatrixXd& s, const std::string& prefix) {
     PointData tensor{prefix + "stress_tensor", 9, {}, "Pa"};
-    if constexpr (Physics::dim == 1) {
-      for (int k = 0; k < Physics::n_comp; ++k)
+    if constexpr (physics::FiniteStrainOutputs<Physics>) {
+      // F's components (1D: F and the velocity) as scalars, the velocity as a vector in 2D, the
+      // Cauchy stress and F as 3 x 3 tensors.
+      constexpr int scalars = Physics::dim == 1 ? Physics::n_comp : Physics::n_comp - 2;
+      for (int k = 0; k < scalars; ++k)
         data.push_back(
             detail::row(prefix + Physics::state_names[k], s, k, Physics::state_units[k]));
+      if constexpr (Physics::dim == 2)
+        data.push_back(detail::vector3(prefix + "velocity", s, scalars, 2, "m/s"));
+      PointData f{prefix + "deformation_gradient", 9, {}, "1"};
       for (Eigen::Index i = 0; i < s.cols(); ++i) {
-        if constexpr (physics::FiniteStrainOutputs<Physics>) {
-          const Eigen::Matrix3d sigma = Physics::cauchy_stress_tensor(
-              s.col(i), particles.internal.col(i), materials[particles.material[i]]);
-          for (int k = 0; k < 9; ++k) tensor.values.push_back(sigma(k / 3, k % 3));
-        } else {
-          for (int k = 0; k < 9; ++k) tensor.values.push_back(k == 0 ? s(0, i) : 0.0);
+        const Eigen::Matrix3d sigma = Physics::cauchy_stress_tensor(
+            s.col(i), particles.internal.col(i), materials[particles.material[i]]);
+        const Eigen::Matrix3d g =
+            Physics::deformation_gradient_tensor(s.col(i), particles.internal.col(i));
+        for (int k = 0; k < 9; ++k) {
+          tensor.values.push_back(sigma(k / 3, k % 3));
+          f.values.push_back(g(k / 3, k % 3));
         }
       }
       data.push_back(std::move(tensor));
-      if constexpr (physics::FiniteStrainOutputs<Physics>) {
-        PointData f{prefix + "deformation_gradient", 9, {}, "1"};
-        for (Eigen::Index i = 0; i < s.cols(); ++i) {
-          const Eigen::Matrix3d g =
-              Physics::deformation_gradient_tensor(s.col(i), particles.internal.col(i));
-          for (int k = 0; k < 9; ++k) f.values.push_back(g(k / 3, k % 3));
-        }
-        data.push_back(std::move(f));
-      }
+      data.push_back(std::move(f));
+    } else if constexpr (Physics::dim == 1) {
+      for (int k = 0; k < Physics::n_comp; ++k)
+        data.push_back(
+            detail::row(prefix + Physics::state_names[k], s, k, Physics::state_units[k]));
+      for (Eigen::Index i = 0; i < s.cols(); ++i)
+        for (int k = 0; k < 9; ++k) tensor.values.push_back(k == 0 ? s(0, i) : 0.0);
+      data.push_back(std::move(tensor));
     } else {
       data.push_back(detail::row(prefix + "sigma_xx", s, PlaneStrain::sxx, "Pa"));
       data.push_back(detail::row(prefix + "sigma_yy", s, PlaneStrain::syy, "Pa"));

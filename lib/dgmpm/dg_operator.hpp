@@ -28,6 +28,7 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -60,6 +61,8 @@ class DGOperator {
   static constexpr int npc = 1 << dim;
   static constexpr int face_nodes = npc / 2;
   static constexpr int ncomp = Physics::n_comp;
+  // Whether the physics provides CTU's parts (2D only; finite strain does not).
+  static constexpr bool corner_transport = dim > 1 && physics::CornerTransport<Physics>;
   // Grids from this many cells step on threads (below, a parallel region costs more than it saves:
   // two threads against one, `dgmpm bench`, 1D RK2 1.5x at 128 cells, 1.7x at 256, 2D one particle
   // per cell 1.9x at 900).
@@ -75,6 +78,8 @@ class DGOperator {
              FluxScheme flux = FluxScheme::dcu)
       : grid_(grid), disc_(disc), scheme_(dim > 1 ? flux : FluxScheme::dcu), faces_(grid),
         boundary_(grid, faces_, boundaries) {
+    if (scheme_ == FluxScheme::ctu && !corner_transport)
+      throw std::invalid_argument("flux \"ctu\": this physics has no corner transport");
     for (int l = 0; l < dim; ++l) {
       face_weight_[l] = 1.0;
       for (int k = 0; k < dim; ++k)
@@ -199,7 +204,8 @@ class DGOperator {
   // cell, A^+dq) from its star state, times dt / (2 h_l).
   [[gnu::always_inline]] inline State entering_fluctuation(int l, int f, const State& star,
                                                            const NodalField& qn, double dt,
-                                                           int side) const requires(dim > 1) {
+                                                           int side) const
+      requires(corner_transport) {
     const auto [cm, cp] = faces_.cells(l, f);
     const int c = side ? cp : cm;
     return (dt / (2.0 * grid_.cell_size[l])) *
@@ -212,7 +218,7 @@ class DGOperator {
   // in. Reads only the fluctuations entering g's occupied cells.
   [[gnu::always_inline]] inline State transverse_correction(int t, int g,
                                                             const FaceFluctuations& w) const
-      requires(dim > 1) {
+      requires(corner_transport) {
     State correction = State::Zero();
     const auto [gm, gp] = faces_.cells(t, g);
     for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
@@ -347,7 +353,7 @@ class DGOperator {
       if (!projection.qp) return sweep_cells(body);
       return sweep_cells(body, ahead(reach, reach, project_one));
     }
-    if constexpr (dim > 1) {
+    if constexpr (corner_transport) {
       const auto body = [&](int c, Sweep& sweep) {
         CellBlock out;
         advance_cell<FluxScheme::ctu>(c, from, mass, t, dt, sweep, out);

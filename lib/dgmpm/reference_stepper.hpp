@@ -107,7 +107,7 @@ class ReferenceStepper {
         State s = State::Zero();
         active[l][f] = op_.face_star(l, f, q, t, s);
         star[l].col(f) = s;
-        if constexpr (dim > 1) {
+        if constexpr (Op::corner_transport) {
           const auto [cm, cp] = op_.face_cells(l, f);
           for (int side = 0; side < 2; ++side) {
             const int c = side ? cp : cm;
@@ -121,7 +121,7 @@ class ReferenceStepper {
       for (int f = 0; f < op_.num_faces(l); ++f) {
         if (!active[l][f]) continue;
         State s = star[l].col(f);
-        if constexpr (dim > 1)
+        if constexpr (Op::corner_transport)
           if (options_.flux == FluxScheme::ctu) s += op_.transverse_correction(l, f, w);
         const auto [cm, cp] = op_.face_cells(l, f);
         for (int side = 0; side < 2; ++side) {

@@ -69,9 +69,10 @@ concept CornerTransport = ConservationLaw<P> &&
   { P::reflect(kind, axis, q) } -> std::convertible_to<typename P::State>;
 };
 
-// What the operator needs: the conservation law, and CTU's parts in 2D.
+// What the operator needs: the conservation law; CTU also needs CornerTransport in 2D (the
+// operator refuses "ctu" for a physics without it).
 template <class P>
-concept DGPhysics = ConservationLaw<P> &&(P::dim == 1 || CornerTransport<P>);
+concept DGPhysics = ConservationLaw<P>;
 
 // The MPM baseline's constitutive part: the Cauchy stress of a state and its rate update.
 template <class P>
