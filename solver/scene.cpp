@@ -378,15 +378,20 @@ class Parser {
                  "finite-strain step is not one",
              "0 (the automatic step reads the particles' speeds every step)");
     if (s.time.courant_auto && !doc["time"].contains("safety")) s.time.safety = kFiniteStrainSafety;
-    // The hyperbolic range of each material, as its physics states it (uniaxially: F above
-    // lowest_f, nominal stresses above lowest_p; a normal load on an unstrained body drives a
-    // uniaxial-strain wave, in 2D as in 1D).
+    // The hyperbolic range of each material, as its physics states it under uniaxial strain: F
+    // above lowest_f, nominal stresses above lowest_p (a normal load on an unstrained body drives
+    // a uniaxial-strain wave, in 2D as in 1D; in 2D oblique waves may fail first).
     const auto physics = [&](const MaterialSpec& m, auto&& f) {
-      if (m.model == "saint_venant_kirchhoff")
-        return f(FiniteStrainBar<SaintVenantKirchhoff>{},
-                 FiniteStrainBar<SaintVenantKirchhoff>::Material(m.young, m.poisson, m.density));
-      return f(FiniteStrainBar<NeoHookean>{},
-               FiniteStrainBar<NeoHookean>::Material(m.young, m.poisson, m.density));
+      const auto with = [&](auto p) {
+        using P = decltype(p);
+        return f(p, typename P::Material(m.young, m.poisson, m.density));
+      };
+      const bool svk = m.model == "saint_venant_kirchhoff";
+      if (s.dimension == 1)
+        return svk ? with(FiniteStrainBar<SaintVenantKirchhoff>{})
+                   : with(FiniteStrainBar<NeoHookean>{});
+      return svk ? with(FiniteStrainPlane<SaintVenantKirchhoff>{})
+                 : with(FiniteStrainPlane<NeoHookean>{});
     };
     const auto lowest_f = [&](const MaterialSpec& m) {
       return physics(m, [](auto p, const auto& material) { return p.lowest_f(material); });
@@ -451,7 +456,8 @@ class Parser {
                            " Pa that \"" + limiting->model + "\" (material \"" + limiting->name +
                            "\") reaches only past its hyperbolic range",
                        "normal nominal stresses above " + number_text(lowest) +
-                           " Pa (P at F = 1/sqrt(3))");
+                           " Pa (P_xx at the least uniaxial F_xx in the range, " +
+                           number_text(lowest_f(*limiting)) + ")");
               }
   }
 

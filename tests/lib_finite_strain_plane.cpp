@@ -12,7 +12,9 @@
 #include <dgmpm/physics/hyperelastic_laws.hpp>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -114,6 +116,23 @@ BOOST_AUTO_TEST_CASE(laws_are_frame_invariant_with_symmetric_cauchy_stress) {
   check_invariance<NeoHookean>();
 }
 
+// What an edge needs (plane_edge: the traction and the acoustic tensor along an axis, with only
+// the terms they need) is the column of the stress and the contraction of the tangent.
+BOOST_AUTO_TEST_CASE(edge_values_are_the_stress_and_tangent_along_the_axis) {
+  const auto check = [&](auto law) {
+    using Law = decltype(law);
+    for (const Eigen::Matrix2d& f : gradients())
+      for (int axis = 0; axis < 2; ++axis) {
+        const PlaneEdge e = Law::plane_edge(f, axis, k);
+        const Eigen::Vector2d n = Eigen::Vector2d::Unit(axis);
+        BOOST_TEST((e.traction - Law::plane_stress(f, k).col(axis)).norm() <= 1e-13 * M);
+        BOOST_TEST((e.acoustic - acoustic_tensor(Law::plane_tangent(f, k), n)).norm() <= 1e-13 * M);
+      }
+  };
+  check(SaintVenantKirchhoff{});
+  check(NeoHookean{});
+}
+
 // Along x with F = diag(f, 1) the plane forms are the 1D physics' uniaxial ones, and sigma_zz
 // its lateral stress.
 BOOST_AUTO_TEST_CASE(uniaxial_deformation_gives_the_1d_forms) {
@@ -171,6 +190,26 @@ BOOST_AUTO_TEST_CASE(impedance_and_largest_speed) {
       const double c = max_wave_speed(a, rho0), c_scan = std::sqrt(scan / rho0);
       BOOST_TEST(c >= c_scan * (1 - 1e-14));
       BOOST_TEST(c <= c_scan * (1 + 1e-8));
+    }
+  // SVK compressed along a direction between the sampled ones, just past and just before the
+  // stretch where some direction loses its real speeds: in plane strain that is 0.70562 (found by
+  // the scan, in directions about 35 degrees from the compression), well above the uniaxial
+  // 1/sqrt(3) (longitudinal waves only). NaN exactly when a dense scan finds a direction whose
+  // acoustic tensor is not positive definite.
+  for (const double angle : {0.3, 0.77, 1.1, 2.9})
+    for (const double stretch : {0.7051, 0.7061}) {
+      const Eigen::Matrix2d r = Eigen::Rotation2Dd(angle).toRotationMatrix();
+      const Eigen::Matrix2d f = r * Eigen::Vector2d(stretch, 1.0).asDiagonal() * r.transpose();
+      const PlaneTangent a = SaintVenantKirchhoff::plane_tangent(f, k);
+      double least = std::numeric_limits<double>::infinity();
+      for (int s = 0; s < 20000; ++s) {
+        const double t = M_PI * s / 20000;
+        const Eigen::Matrix2d q = acoustic_tensor(a, Eigen::Vector2d(std::cos(t), std::sin(t)));
+        least = std::min(least, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(q).eigenvalues()[0]);
+      }
+      BOOST_TEST((least < 0) == (stretch < 0.7056));
+      BOOST_TEST(std::abs(least) > 1e-6 * M);
+      BOOST_TEST(std::isnan(max_wave_speed(a, rho0)) == (least < 0), angle << ' ' << stretch);
     }
   // SVK compressed uniaxially past 1/sqrt(3): no real longitudinal speed.
   const Eigen::Matrix2d crushed = Eigen::Vector2d(0.5, 1.0).asDiagonal();

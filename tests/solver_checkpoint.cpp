@@ -279,6 +279,31 @@ BOOST_AUTO_TEST_CASE(finite_strain_bars) {
   check_restarts("svk_mpm_usl", svk, every(9));
 }
 
+// 2D finite strain: the plate punched at 400 m/s (neo-Hookean, Euler, automatic step) and the
+// strip pulled hard (SVK, RK2, fixed Courant number), restored bit for bit.
+BOOST_AUTO_TEST_CASE(finite_strain_plates) {
+  const auto shipped = [](const std::string& name) {
+    std::ifstream in(std::string(DGMPM_TEST_SOURCE_DIR) + "/scenes/" + name + ".json");
+    json doc = json::parse(in);
+    doc["output"]["formats"] = {"csv", "vtu"};
+    return doc;
+  };
+  json plate = shipped("plate_finite_strain");
+  plate["grid"]["cells"] = {40, 20};
+  plate["grid"]["cell_size"] = {0.01, 0.01};
+  plate["time"]["end"] = 3e-5;
+  plate["output"]["times"] = {1e-5, 2e-5, 3e-5};
+  check_restarts("plate_finite_strain_auto", plate, every(8));
+  json strip = shipped("neo_hookean_strip");
+  strip["materials"]["steel"]["model"] = "saint_venant_kirchhoff";
+  strip["boundaries"]["xmin"] = {{"type", "traction"}, {"value", {2e10, 1e9}}};
+  strip["time"]["integrator"] = "rk2";
+  strip["time"]["courant"] = 0.8;
+  strip["time"]["end"] = 2e-4;
+  strip["output"]["times"] = {1e-4, 2e-4};
+  check_restarts("svk_strip_rk2_fixed", strip, every(7));
+}
+
 BOOST_AUTO_TEST_CASE(energy_history_cut_back_to_the_checkpoint) {
   // A run killed after its last checkpoint leaves rows (maybe half a row) beyond it: cut away.
   const json doc = bar_1d("dgmpm", false, "euler", 0.5);

@@ -559,7 +559,7 @@ BOOST_AUTO_TEST_CASE(refuses_unknown_names) {
                       "linear_elastic", "saint_venant_kirchhoff", "neo_hookean"});
 }
 
-// Finite strain (1D DGMPM so far): what it cannot mean is refused with the key path and the
+// Finite strain: what it cannot mean is refused with the key path and the
 // reason; a valid scene gets the finite-strain default safety of an automatic step.
 BOOST_AUTO_TEST_CASE(refuses_what_finite_strain_cannot_mean) {
   const auto finite = [] {
@@ -635,11 +635,51 @@ BOOST_AUTO_TEST_CASE(refuses_what_finite_strain_cannot_mean) {
   doc["materials"]["steel"]["model"] = "neo_hookean";
   doc["boundaries"]["xmin"]["value"] = -5e11;
   BOOST_TEST(refusal(doc).empty());
-  // Not a 2D material yet; a deformation gradient needs a finite-strain material.
+  // A deformation gradient needs a finite-strain material.
   doc = base();
   doc["bodies"][0]["deformation_gradient"] = {1.01};
   check_refused(
       doc, {"bodies[0].deformation_gradient: value [1.01] is a finite-strain key", "small-strain"});
+}
+
+// 2D finite strain: CTU, a deformation gradient of the wrong size, outside the range (det F <= 0,
+// or an acoustic tensor not positive definite in some direction: SVK compressed to 0.7 in plane
+// strain, where oblique waves fail though 0.7 > 1/sqrt(3)), and a normal traction past the
+// uniaxial limit (SVK in plane strain: P_xx(0.70562) = (M / 2) F (F^2 - 1) = -4.77e10 Pa).
+BOOST_AUTO_TEST_CASE(refuses_what_2d_finite_strain_cannot_mean) {
+  std::ifstream in(std::string(DGMPM_TEST_SOURCE_DIR) + "/scenes/neo_hookean_strip.json");
+  const json strip = json::parse(in);
+  const auto finite = [&](const char* model) {
+    json doc = strip;
+    doc["materials"]["steel"]["model"] = model;
+    return doc;
+  };
+  BOOST_TEST(refusal(finite("saint_venant_kirchhoff")).empty());
+  json doc = finite("neo_hookean");
+  doc["flux"] = "ctu";
+  check_refused(doc, {"flux: value \"ctu\" is not available with finite-strain material",
+                      "allowed: \"dcu\""});
+  doc = finite("neo_hookean");
+  doc["bodies"][0]["deformation_gradient"] = {1.0, 0.0};
+  check_refused(doc, {"bodies[0].deformation_gradient", "[F_xx, F_xy, F_yx, F_yy]"});
+  doc["bodies"][0]["deformation_gradient"] = {0.0, 1.0, 1.0, 0.0};
+  check_refused(doc, {"bodies[0].deformation_gradient: value [0.0,1.0,1.0,0.0] is outside the "
+                      "hyperbolic range of \"neo_hookean\"",
+                      "det F > 0"});
+  doc["bodies"][0]["deformation_gradient"] = {1.02, 0.1, 0.0, 0.98};
+  BOOST_TEST(refusal(doc).empty());
+  doc = finite("saint_venant_kirchhoff");
+  doc["bodies"][1]["deformation_gradient"] = {0.7, 0.0, 0.0, 1.0};
+  check_refused(doc, {"bodies[1].deformation_gradient: value [0.7,0.0,0.0,1.0] is outside",
+                      "positive definite in every direction"});
+  doc["bodies"][1]["deformation_gradient"] = {0.71, 0.0, 0.0, 1.0};
+  BOOST_TEST(refusal(doc).empty());
+  doc = finite("saint_venant_kirchhoff");
+  doc["boundaries"]["ymax"] = {{"type", "traction"}, {"value", {-4.8e10, 0.0}}};
+  check_refused(doc, {"boundaries.ymax: value", "normal nominal stress -4.8e+10 Pa", "above -4.76",
+                      "0.70562"});
+  doc["boundaries"]["ymax"]["value"] = {-4.7e10, 1e9};
+  BOOST_TEST(refusal(doc).empty());
 }
 
 BOOST_AUTO_TEST_CASE(refuses_non_finite_numbers) {

@@ -101,6 +101,26 @@ struct FiniteStrainPlane {
     return dgmpm::max_wave_speed(Law::plane_tangent(gradient(q, m.density), m.moduli), m.density);
   }
 
+  // The hyperbolic range under uniaxial strain F = diag(f, 1): f above lowest_f, the least f whose
+  // acoustic tensors are positive definite in every direction (by bisection; SVK at nu = 0.3:
+  // 0.70562, oblique waves failing first, above the longitudinal 1/sqrt(3)), and nominal stresses
+  // P_xx above lowest_stress (a normal traction below it drives the loaded edge out of the range;
+  // -infinity where no f > 0 leaves it).
+  static double lowest_f(const Material& m) {
+    const auto hyperbolic = [&](double f) {
+      return state_wave_speed(specific(Vec(f, 1.0).asDiagonal(), Vec::Zero(), m), m) >= 0;
+    };
+    double lo = 1e-3, hi = 1.0;
+    if (hyperbolic(lo)) return 0.0;
+    while (hi - lo > 1e-12) (hyperbolic(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+    return hi;
+  }
+  static double lowest_stress(const Material& m) {
+    const double f = lowest_f(m);
+    return f > 0 ? Law::plane_stress(Vec(f, 1.0).asDiagonal(), m.moduli)(0, 0)
+                 : -std::numeric_limits<double>::infinity();
+  }
+
   // Specific flux along `axis`: F rows -v_i / rho0 for F_i,axis, momentum rows -P_i,axis / rho0.
   static State specific_flux(int axis, const State& q, const Material& m) {
     const Mat p = Law::plane_stress(gradient(q, m.density), m.moduli);
@@ -243,13 +263,9 @@ struct FiniteStrainPlane {
   }
   // A side's traction P e_axis and impedance tensor along e_axis, from its specific state.
   static void side_of(int axis, const State& q, const Material& m, Vec& t, Mat& z) {
-    const Mat f = gradient(q, m.density);
-    t = Law::plane_stress(f, m.moduli).col(axis);
-    const PlaneTangent a = Law::plane_tangent(f, m.moduli);
-    Mat acoustic;
-    for (int i = 0; i < 2; ++i)
-      for (int k = 0; k < 2; ++k) acoustic(i, k) = a[i][axis][k][axis];
-    z = impedance_tensor(acoustic, m.density);
+    const PlaneEdge e = Law::plane_edge(gradient(q, m.density), axis, m.moduli);
+    t = e.traction;
+    z = impedance_tensor(e.acoustic, m.density);
   }
 };
 

@@ -32,6 +32,14 @@ namespace dgmpm {
 // A plane-strain tangent A_iJkL, i, J, k, L in {x, y}, stored as a[i][J][k][L].
 using PlaneTangent = std::array<std::array<std::array<std::array<double, 2>, 2>, 2>, 2>;
 
+// What an edge normal to an axis needs of a law at F: the traction P e_axis and the acoustic
+// tensor A_ik = A_i,axis,k,axis (plane_edge: the same values as plane_stress and plane_tangent
+// give, with only the terms they need).
+struct PlaneEdge {
+  Eigen::Vector2d traction;
+  Eigen::Matrix2d acoustic;
+};
+
 // The Lame moduli of a law, from Young's modulus and Poisson's ratio.
 struct LameModuli {
   double lambda = 0, mu = 0;
@@ -82,6 +90,12 @@ struct SaintVenantKirchhoff {
             a[i][J][kk][L] = (i == kk ? s(J, L) : 0.0) + k.lambda * f(i, J) * f(kk, L) +
                              k.mu * (f(i, L) * f(kk, J) + (J == L ? b(i, kk) : 0.0));
     return a;
+  }
+  static PlaneEdge plane_edge(const Eigen::Matrix2d& f, int axis, const LameModuli& k) {
+    const Eigen::Matrix2d s = plane_second(f, k), b = f * f.transpose();
+    const Eigen::Vector2d fa = f.col(axis);
+    return {f * s.col(axis), s(axis, axis) * Eigen::Matrix2d::Identity() +
+                                 (k.lambda + k.mu) * fa * fa.transpose() + k.mu * b};
   }
   // sigma = P F^T / J in plane, sigma_zz = S_zz / J = lambda tr(E) / J.
   static Eigen::Matrix3d plane_cauchy(const Eigen::Matrix2d& f, const LameModuli& k) {
@@ -140,6 +154,23 @@ struct NeoHookean {
             t[i][J][kk][L] = k.mu * a * dev + kappa * vol;
           }
     return t;
+  }
+  // Along J = L = axis the tangent's terms gather into
+  // A = mu a (I - (2/3) (f g^T + g f^T) + (5/9) I1 g g^T) + kappa J^2 g g^T, f = F e_axis,
+  // g = G e_axis.
+  static PlaneEdge plane_edge(const Eigen::Matrix2d& f, int axis, const LameModuli& k) {
+    const double j = f.determinant(), i1 = f.squaredNorm() + 1;
+    const double a = std::pow(j, -2.0 / 3.0), kappa = bulk(k);
+    // G = F^-T, column `axis` only.
+    const Eigen::Vector2d g =
+        axis == 0 ? Eigen::Vector2d(f(1, 1), -f(0, 1)) / j : Eigen::Vector2d(-f(1, 0), f(0, 0)) / j;
+    const Eigen::Vector2d fa = f.col(axis);
+    const Eigen::Matrix2d fg = fa * g.transpose();
+    return {k.mu * a * (fa - i1 / 3 * g) + kappa * j * (j - 1) * g,
+            k.mu * a *
+                    (Eigen::Matrix2d::Identity() - 2.0 / 3.0 * (fg + fg.transpose()) +
+                     5.0 / 9.0 * i1 * g * g.transpose()) +
+                kappa * j * j * g * g.transpose()};
   }
   // sigma = mu J^(-5/3) dev(b) + kappa (J - 1) I, b = F F^T with b_zz = 1.
   static Eigen::Matrix3d plane_cauchy(const Eigen::Matrix2d& f, const LameModuli& k) {
