@@ -169,9 +169,10 @@ namespace {
 // runs the Perzyna return's Newton iteration at every step (the return's worst case).
 enum class Yielding { none, plastic, every_particle };
 
+// `hyperelastic` names a finite-strain law for the steel (the same moduli) instead.
 scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
                          const std::string& integrator, const std::string& method = "dgmpm",
-                         Yielding yielding = Yielding::none) {
+                         Yielding yielding = Yielding::none, const std::string& hyperelastic = "") {
   const double per_cell = ppc_axis * ppc_axis;
   const int nx =
       std::max(1, static_cast<int>(std::lround(std::sqrt(particles / per_cell * 4 / 3))));
@@ -201,6 +202,7 @@ scene::Scene plate_scene(int particles, int ppc_axis, const std::string& flux,
     steel["rate_exponent"] = 1.0;
     doc["bodies"][0]["stress"] = {-3e8, 0.0, 0.0};
   }
+  if (!hyperelastic.empty()) steel["model"] = hyperelastic;
   return scene::parse_scene(doc, "bench plate");
 }
 
@@ -465,7 +467,15 @@ void run_goals_benchmark(std::ostream& out, int particles, double seconds, int r
        {2, 5, false, false}},
       {"2D every particle returns, CTU Euler, 1 ppc",
        plate_scene(particles, 1, "ctu", "euler", "dgmpm", Yielding::every_particle),
-       {2, 5, false, false}}};
+       {2, 5, false, false}},
+      // Finite strain: (F, v) and the displacement read and written; the step's speeds from every
+      // particle's acoustic tensors, every step.
+      {"2D finite strain neo-Hookean DCU Euler, 1 ppc",
+       plate_scene(particles, 1, "dcu", "euler", "dgmpm", Yielding::none, "neo_hookean"),
+       {2, 8, false, false}},
+      {"2D finite strain SVK DCU Euler, 1 ppc",
+       plate_scene(particles, 1, "dcu", "euler", "dgmpm", Yielding::none, "saint_venant_kirchhoff"),
+       {2, 8, false, false}}};
   // What a plastic step costs: each plastic plate against the same elastic plate, measured in
   // this run (medians' ratio; the traffic counted is the elastic step's).
   const std::vector<std::pair<std::string, std::string>> plastic_pairs{
@@ -490,6 +500,13 @@ void run_goals_benchmark(std::ostream& out, int particles, double seconds, int r
     report["plastic_step_cost"].push_back({{"case", plastic},
                                            {"elastic", elastic},
                                            {"cost", median_of(elastic) / median_of(plastic)}});
+  // What a finite-strain step costs against the small-strain one, the same way.
+  for (const char* finite :
+       {"2D finite strain neo-Hookean DCU Euler, 1 ppc", "2D finite strain SVK DCU Euler, 1 ppc"})
+    report["finite_strain_step_cost"].push_back(
+        {{"case", finite},
+         {"small_strain", "2D DGMPM DCU Euler, 1 ppc"},
+         {"cost", median_of("2D DGMPM DCU Euler, 1 ppc") / median_of(finite)}});
   // Two threads against one, every case: rates and identical states.
   if (threads >= 2)
     for (std::size_t k = 0; k < cases.size(); ++k) {

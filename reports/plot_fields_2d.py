@@ -6,6 +6,9 @@ particle drawn as a filled cell-sized square, side by side with one shared colou
 
 --times picks, for each time asked, the scene's nearest output time (particles_NNN.csv is the
 NNN-th output time in increasing order); or pass --files (with --labels for the panel titles).
+--deformed draws a finite-strain run's particles in the current configuration: each particle's
+cell mapped by its deformation gradient F about its current position X + u, with the bodies'
+reference outline dashed.
 """
 import argparse
 import csv
@@ -18,7 +21,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import PatchCollection  # noqa: E402
-from matplotlib.patches import Rectangle  # noqa: E402
+from matplotlib.patches import Polygon, Rectangle  # noqa: E402
 
 
 def read(path):
@@ -40,6 +43,8 @@ def main():
     p.add_argument("--scale", type=float, default=1e-6, help="multiplies the field (MPa: 1e-6)")
     p.add_argument("--unit", default="MPa")
     p.add_argument("--title", default="")
+    p.add_argument("--deformed", action="store_true",
+                   help="finite strain: cells mapped by F at the current positions")
     p.add_argument("-o", "--output", required=True)
     a = p.parse_args()
 
@@ -81,12 +86,30 @@ def main():
             h = (spacing(xs), spacing(ys))
         else:
             h = cell
-        squares = [Rectangle((x - h[0] / 2, y - h[1] / 2), h[0], h[1]) for x, y in zip(xs, ys)]
-        pc = PatchCollection(squares, cmap=cmap, norm=norm, edgecolor="none")
+        if a.deformed:
+            corners = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+            shapes = []
+            for i in range(len(xs)):
+                f = ((d["F_xx"][i], d["F_xy"][i]), (d["F_yx"][i], d["F_yy"][i]))
+                cx, cy = d["current_x"][i], d["current_y"][i]
+                shapes.append(Polygon([(cx + f[0][0] * u * h[0] + f[0][1] * w * h[1],
+                                        cy + f[1][0] * u * h[0] + f[1][1] * w * h[1])
+                                       for u, w in corners]))
+            lo_x, hi_x = min(xs) - h[0] / 2, max(xs) + h[0] / 2
+            lo_y, hi_y = min(ys) - h[1] / 2, max(ys) + h[1] / 2
+            ax.add_patch(Rectangle((lo_x, lo_y), hi_x - lo_x, hi_y - lo_y, fill=False,
+                                   linestyle="--", edgecolor="grey", lw=0.8))
+            cxs, cys = d["current_x"], d["current_y"]
+            pad = max(h)
+            ax.set_xlim(min(lo_x, min(cxs)) - pad, max(hi_x, max(cxs)) + pad)
+            ax.set_ylim(min(lo_y, min(cys)) - pad, max(hi_y, max(cys)) + pad)
+        else:
+            shapes = [Rectangle((x - h[0] / 2, y - h[1] / 2), h[0], h[1]) for x, y in zip(xs, ys)]
+            ax.set_xlim(min(xs) - h[0] / 2, max(xs) + h[0] / 2)
+            ax.set_ylim(min(ys) - h[1] / 2, max(ys) + h[1] / 2)
+        pc = PatchCollection(shapes, cmap=cmap, norm=norm, edgecolor="none")
         pc.set_array(v)
         ax.add_collection(pc)
-        ax.set_xlim(min(xs) - h[0] / 2, max(xs) + h[0] / 2)
-        ax.set_ylim(min(ys) - h[1] / 2, max(ys) + h[1] / 2)
         ax.set_aspect("equal")
         ax.set_title(label)
         ax.set_xlabel("x (m)")

@@ -165,6 +165,8 @@ class TimeStepControl : public LayoutQuantisation {
     bool hyperbolic = true;
     const int cells = disc.num_cells();
     if (!automatic_) {
+#pragma omp parallel for reduction(min : dt) reduction(max : fastest) \
+    reduction(&& : hyperbolic) schedule(static) if (physics::StateDependentSpeed<Physics>)
       for (int c = 0; c < cells; ++c) {
         if (!disc.occupied(c)) continue;
         const double speed = cell_speed(disc, particles, materials, c);

@@ -21,7 +21,9 @@ assert names == ["1D DGMPM Euler", "1D DGMPM RK2", "1D moving, auto dt, 2 ppc",
                  "2D plastic DCU Euler, 1 ppc", "2D plastic DCU Euler, 4 ppc",
                  "2D plastic CTU Euler, 1 ppc", "2D plastic CTU Euler, 4 ppc",
                  "2D every particle returns, DCU Euler, 1 ppc",
-                 "2D every particle returns, CTU Euler, 1 ppc"], names
+                 "2D every particle returns, CTU Euler, 1 ppc",
+                 "2D finite strain neo-Hookean DCU Euler, 1 ppc",
+                 "2D finite strain SVK DCU Euler, 1 ppc"], names
 for c in report["cases"]:
     rates = c["particle_steps_per_second"]
     assert len(rates["runs"]) == 2 and min(rates["runs"]) == rates["min"], c
@@ -44,6 +46,11 @@ assert [p["case"] for p in costs] == [n for n in names
 for p in costs:
     assert p["elastic"] in median and "plastic" not in p["elastic"], p
     assert abs(p["cost"] - median[p["elastic"]] / median[p["case"]]) <= 1e-12 * p["cost"], p
+finite = report["finite_strain_step_cost"]
+assert [p["case"] for p in finite] == [n for n in names if n.startswith("2D finite strain")], finite
+for p in finite:
+    assert p["small_strain"] == "2D DGMPM DCU Euler, 1 ppc", p
+    assert abs(p["cost"] - median[p["small_strain"]] / median[p["case"]]) <= 1e-12 * p["cost"], p
 assert [t["case"] for t in report["two_threads"]] == names, report["two_threads"]
 assert all(t["bit_identical"] for t in report["two_threads"]), report["two_threads"]
 refused = subprocess.run([binary, "bench", "--json", "--what", "solver"], capture_output=True)

@@ -74,9 +74,14 @@ inline double largest_over_directions(const DirectionalForm& f, double sign) {
     const double d = f.d[0] + f.d[1] * c + f.d[2] * s, o = f.o[0] + f.o[1] * c + f.o[2] * s;
     g[k] = m[0] + m[1] * c + m[2] * s + std::sqrt(d * d + o * o);
   }
-  double best = *std::max_element(g.begin(), g.end());
+  const auto [least, most] = std::minmax_element(g.begin(), g.end());
+  double best = *most;
+  // Flat to round-off (an isotropic state: every direction alike): the samples hold the maximum.
+  if (*most - *least <= 1e-14 * std::abs(*most)) return best;
   for (int k = 0; k < kSamples; ++k) {
-    if (g[k] < g[(k + kSamples - 1) % kSamples] || g[k] < g[(k + 1) % kSamples]) continue;
+    // A sampled local maximum, strictly above its left neighbour (one per plateau of equal
+    // samples).
+    if (!(g[k] > g[(k + kSamples - 1) % kSamples]) || g[k] < g[(k + 1) % kSamples]) continue;
     double lo = (k - 1) * step, hi = (k + 1) * step, phi = k * step;
     for (int it = 0; it < 60; ++it) {
       const double c = std::cos(phi), s = std::sin(phi);
@@ -96,7 +101,7 @@ inline double largest_over_directions(const DirectionalForm& f, double sign) {
       double next = phi - g1 / g2;
       if (!(g2 < 0) || !(next > lo && next < hi)) next = 0.5 * (lo + hi);
       // Newton converges quadratically: a step below 1e-8 leaves g within 1e-16 of its maximum.
-      if (std::abs(next - phi) <= 1e-8) break;
+      if (std::abs(next - phi) <= 1e-8 || hi - lo <= 1e-8) break;
       phi = next;
     }
   }
