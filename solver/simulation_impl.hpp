@@ -363,7 +363,8 @@ void Simulation<Physics>::check_hyperbolic(long step, double t) const {
       for (int k = 0; k < ncomp; ++k)
         o << (k ? ", " : "") << Physics::state_names[k] << " = " << std::setprecision(9) << s[k];
       o << "; the equations are no longer well posed there (a compression too strong for the "
-           "law, e.g. Saint Venant-Kirchhoff below F = 1/sqrt(3))";
+           "law, e.g. Saint Venant-Kirchhoff compressed below F = 1/sqrt(3) in uniaxial strain, "
+           "sooner in plane strain, where oblique waves fail first)";
       throw std::runtime_error(o.str());
     }
     throw RankStopped("a particle left its hyperbolic range (another rank names it)");
