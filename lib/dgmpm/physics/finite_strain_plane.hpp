@@ -50,25 +50,10 @@ struct FiniteStrainPlane {
   using Mat = Eigen::Matrix2d;
   enum Component { fxx = 0, fxy = 1, fyx = 2, fyy = 3, vx = 4, vy = 5 };
 
-  // The law's moduli and the reference density rho0.
-  struct Material {
-    Material() : Material(1.0, 0.0, 1.0) {}
-    Material(double young, double poisson, double density)
-        : young(young), poisson(poisson), density(density),
-          moduli(LameModuli::from_young(young, poisson)) {}
-    double young, poisson, density;
-    LameModuli moduli;
-  };
-
-  // A cell holding two materials: the density of their mass over their volume and the moduli
-  // weighted by mass (the same material when both are), as in 1D.
+  // The law's moduli and the reference density rho0; a mixed cell's by mass.
+  using Material = HyperelasticMaterial;
   static Material blend(const Material& a, double ma, const Material& b, double mb) {
-    const double w = mb / (ma + mb);
-    Material m = a;
-    m.density = (ma + mb) / (ma / a.density + mb / b.density);
-    m.moduli.lambda = (1 - w) * a.moduli.lambda + w * b.moduli.lambda;
-    m.moduli.mu = (1 - w) * a.moduli.mu + w * b.moduli.mu;
-    return m;
+    return Material::blend(a, ma, b, mb);
   }
   static double density(const Material& m) { return m.density; }
 

@@ -49,6 +49,28 @@ struct LameModuli {
   double p_modulus() const { return lambda + 2 * mu; }
 };
 
+// A finite-strain material (1D and 2D alike): the law's moduli and the reference density rho0.
+struct HyperelasticMaterial {
+  HyperelasticMaterial() : HyperelasticMaterial(1.0, 0.0, 1.0) {}
+  HyperelasticMaterial(double young, double poisson, double density)
+      : young(young), poisson(poisson), density(density),
+        moduli(LameModuli::from_young(young, poisson)) {}
+  double young, poisson, density;
+  LameModuli moduli;
+
+  // A cell holding two materials: the density of their mass over their volume and the moduli
+  // weighted by mass (the same material when both are).
+  static HyperelasticMaterial blend(const HyperelasticMaterial& a, double ma,
+                                    const HyperelasticMaterial& b, double mb) {
+    const double w = mb / (ma + mb);
+    HyperelasticMaterial m = a;
+    m.density = (ma + mb) / (ma / a.density + mb / b.density);
+    m.moduli.lambda = (1 - w) * a.moduli.lambda + w * b.moduli.lambda;
+    m.moduli.mu = (1 - w) * a.moduli.mu + w * b.moduli.mu;
+    return m;
+  }
+};
+
 struct SaintVenantKirchhoff {
   static constexpr const char* name = "saint_venant_kirchhoff";
   static double uniaxial_energy(double f, const LameModuli& k) {
