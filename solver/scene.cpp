@@ -352,12 +352,6 @@ class Parser {
                    finite->name + "\"",
                "one law per scene (materials may differ in young, poisson and density)");
     const std::string fs = "with finite-strain material \"" + finite->name + "\"";
-    if (s.dimension == 2 && s.flux == FluxScheme::ctu)
-      refuse("flux", doc["flux"],
-             "is not available " + fs +
-                 ": CTU's transverse split of a fluctuation needs the tangent at the entered "
-                 "cell's state, which the finite-strain physics does not provide",
-             "\"dcu\"");
     if (s.particles_move)
       refuse("particles_move", doc["particles_move"],
              "is not allowed " + fs +

@@ -3,13 +3,15 @@
 // the laws (SVK from E, neo-Hookean from J and I1, with a unit F_zz), differentiated by central
 // differences for P = dW/dF and A = dP/dF; the uniaxial forms of the 1D physics along x; small
 // strain at F = I (A(e_x) = diag(lambda + 2 mu, mu)); frame invariance (P(QF) = Q P(F),
-// A(QF, N) = Q A(F, N) Q^T); the symmetric Cauchy stress; the impedance's square; and the largest
-// wave speed over directions against a dense scan.
+// A(QF, N) = Q A(F, N) Q^T); the symmetric Cauchy stress; the impedance's square; the largest
+// wave speed over directions against a dense scan; and CTU's transverse split of the 2D physics.
 #define BOOST_TEST_MODULE finite_strain_plane
 #include <boost/test/unit_test.hpp>
 
 #include <dgmpm/physics/acoustic.hpp>
+#include <dgmpm/physics/finite_strain_plane.hpp>
 #include <dgmpm/physics/hyperelastic_laws.hpp>
+#include <dgmpm/physics/plane_strain.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -216,4 +218,170 @@ BOOST_AUTO_TEST_CASE(impedance_and_largest_speed) {
   const PlaneTangent a = SaintVenantKirchhoff::plane_tangent(crushed, k);
   BOOST_TEST(std::isnan(max_wave_speed(a, rho0)));
   BOOST_TEST(std::isnan(impedance_tensor(acoustic_tensor(a, Eigen::Vector2d(1, 0)), rho0)(0, 0)));
+}
+
+// CTU's transverse split (FiniteStrainPlane::transverse): a fluctuation w = (dF, dv) split into the
+// waves of the Jacobian B along the crossed axis. Checked against (1) B w itself, -(dv (x) N,
+// dP[dF] N) with dP from central differences of the stress: the up and down parts' fluxes sum to
+// it; (2) the waves built here from the acoustic tensor's eigenvectors (Eigen's solver): a wave
+// moving up is all up, none down; (3) small strain at F = I (PlaneStrain::transverse, written for
+// stresses), between two materials; (4) each boundary's condition on the wave and its reflection.
+namespace {
+
+template <class Law>
+using Plane = FiniteStrainPlane<Law>;
+
+template <class Law>
+typename Plane<Law>::State state_of(const Eigen::Matrix2d& f, const Eigen::Vector2d& v,
+                                    const HyperelasticMaterial& m) {
+  return Plane<Law>::specific(f, v, m);
+}
+
+// B w along `axis` for a rate w of (F, v): the flux's linearisation, a rate of the conserved
+// (F, rho0 v), with dP from central differences of P.
+template <class Law>
+Eigen::Matrix<double, 6, 1> jacobian_times(int axis, const Eigen::Matrix2d& f,
+                                           const Eigen::Matrix<double, 6, 1>& w) {
+  Eigen::Matrix2d df;
+  df << w[0], w[1], w[2], w[3];
+  const double h = 1e-6 / std::max(1e-300, df.norm());
+  const Eigen::Matrix2d dp =
+      (Law::plane_stress(f + h * df, k) - Law::plane_stress(f - h * df, k)) / (2 * h);
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  b[2 * 0 + axis] = -w[4];
+  b[2 * 1 + axis] = -w[5];
+  b[4] = -dp(0, axis);
+  b[5] = -dp(1, axis);
+  return b;
+}
+
+template <class Law>
+void check_transverse_split() {
+  using P = Plane<Law>;
+  const HyperelasticMaterial m(E, nu, rho0);
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const Eigen::Matrix2d& f : gradients())
+    for (int axis = 0; axis < 2; ++axis) {
+      const typename P::State q = state_of<Law>(f, Eigen::Vector2d(3.0, -2.0), m);
+      const auto medium = P::transverse_medium(axis, q, m);
+      for (int n = 0; n < 4; ++n) {
+        typename P::State w;
+        for (int i = 0; i < 6; ++i) w[i] = (i < 4 ? 1e-3 : 10.0) * u(gen);
+        const typename P::State r_up = P::transverse(axis, w, medium, medium, true);
+        const typename P::State r_down = P::transverse(axis, w, medium, medium, false);
+        const typename P::State sum = P::flux(axis, r_up, m) + P::flux(axis, r_down, m);
+        const typename P::State expected = jacobian_times<Law>(axis, f, w);
+        BOOST_TEST((sum - expected).norm() <= 1e-7 * expected.norm(), axis << ' ' << n);
+      }
+      // The moving waves, from the acoustic tensor's eigenvectors: dv = e, dF_i,axis = -+e_i / c
+      // (to +axis, -axis), the other column of dF free (a zero-speed part).
+      const Eigen::Matrix2d a = acoustic_tensor(Law::plane_tangent(f, k), Eigen::Vector2d::Unit(axis));
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(a);
+      for (int e = 0; e < 2; ++e)
+        for (const bool up : {true, false}) {
+          const Eigen::Vector2d dv = eig.eigenvectors().col(e);
+          const double c = std::sqrt(eig.eigenvalues()[e] / rho0);
+          typename P::State w = P::State::Zero();
+          w[2 * 0 + axis] = (up ? -1 : 1) * dv[0] / c;
+          w[2 * 1 + axis] = (up ? -1 : 1) * dv[1] / c;
+          w.template tail<2>() = dv;
+          const typename P::State along = P::transverse(axis, w, medium, medium, up);
+          const typename P::State against = P::transverse(axis, w, medium, medium, !up);
+          BOOST_TEST((along.template tail<2>() - dv).norm() <= 1e-9);
+          BOOST_TEST(against.template tail<2>().norm() <= 1e-9);
+          BOOST_TEST(against.template head<2>().norm() <= 1e-9 * rho0 * c);
+        }
+    }
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(transverse_split_is_the_jacobian_in_its_waves) {
+  check_transverse_split<SaintVenantKirchhoff>();
+  check_transverse_split<NeoHookean>();
+}
+
+// At F = I, between two materials (soft to stiff and back), the split is small strain's: the
+// traction rate is the stress rate C : sym(dF) and the star increments' (t, v) are (sigma_nn,
+// sigma_tn, v).
+BOOST_AUTO_TEST_CASE(transverse_split_at_the_reference_is_small_strain) {
+  using P = Plane<NeoHookean>;
+  const HyperelasticMaterial soft(E / 3, 0.25, 2700), stiff(E, nu, rho0);
+  const PlaneStrain::Material soft_ss(E / 3, 0.25, 2700), stiff_ss(E, nu, rho0);
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int axis = 0; axis < 2; ++axis)
+    for (int order = 0; order < 2; ++order) {
+      const auto& here = order ? stiff : soft;
+      const auto& there = order ? soft : stiff;
+      const auto& here_ss = order ? stiff_ss : soft_ss;
+      const auto& there_ss = order ? soft_ss : stiff_ss;
+      const auto mh = P::transverse_medium(
+          axis, P::specific(Eigen::Matrix2d::Identity(), Eigen::Vector2d::Zero(), here), here);
+      const auto mt = P::transverse_medium(
+          axis, P::specific(Eigen::Matrix2d::Identity(), Eigen::Vector2d::Zero(), there), there);
+      for (int n = 0; n < 3; ++n) {
+        P::State w;
+        for (int i = 0; i < 6; ++i) w[i] = (i < 4 ? 1e-3 : 10.0) * u(gen);
+        const double exx = w[0], eyy = w[3], exy = 0.5 * (w[1] + w[2]);
+        const double lam = here.moduli.lambda, mu = here.moduli.mu;
+        PlaneStrain::State ws;
+        ws << (lam + 2 * mu) * exx + lam * eyy, lam * exx + (lam + 2 * mu) * eyy, 2 * mu * exy,
+            w[4], w[5];
+        for (const bool up : {true, false}) {
+          const P::State r = P::transverse(axis, w, mh, mt, up);
+          const PlaneStrain::State s = PlaneStrain::transverse(axis, ws, here_ss, there_ss, up);
+          const int nn = PlaneStrain::normal_stress(axis);
+          const double scale = std::abs(s[nn]) + std::abs(s[PlaneStrain::sxy]);
+          BOOST_TEST(std::abs(r[axis] - s[nn]) <= 1e-12 * scale);
+          BOOST_TEST(std::abs(r[1 - axis] - s[PlaneStrain::sxy]) <= 1e-12 * scale);
+          BOOST_TEST(std::abs(r[4] - s[PlaneStrain::vx]) <= 1e-12 * (std::abs(s[3]) + std::abs(s[4])));
+          BOOST_TEST(std::abs(r[5] - s[PlaneStrain::vy]) <= 1e-12 * (std::abs(s[3]) + std::abs(s[4])));
+        }
+      }
+    }
+}
+
+// Against a boundary the outgoing wave and its reflection (a wave into the cell: t = +-Z v the
+// other way) together meet the boundary's condition with no load: free and traction t = 0, fixed
+// and velocity v = 0, roller v_n = 0 and t_t = 0.
+BOOST_AUTO_TEST_CASE(transverse_reflection_meets_the_boundary_condition) {
+  using P = Plane<NeoHookean>;
+  const HyperelasticMaterial m(E, nu, rho0);
+  const Eigen::Matrix2d f = (Eigen::Matrix2d() << 1.1, 0.15, -0.05, 0.92).finished();
+  P::State w;
+  w << 2e-3, -1e-3, 5e-4, 1.5e-3, 12.0, -7.0;
+  for (int axis = 0; axis < 2; ++axis) {
+    const auto medium = P::transverse_medium(axis, P::specific(f, Eigen::Vector2d::Zero(), m), m);
+    const int n = axis, t = 1 - axis;
+    for (const bool up : {true, false}) {
+      const P::State out = P::transverse(axis, w, medium, medium, up);
+      for (const BoundaryKind kind : {BoundaryKind::free, BoundaryKind::traction,
+                                      BoundaryKind::fixed, BoundaryKind::velocity,
+                                      BoundaryKind::roller}) {
+        const P::State r = P::transverse_at_boundary(kind, axis, w, medium, up);
+        const Eigen::Vector2d tr = r.head<2>(), vr = r.tail<2>();
+        const double ts = std::abs(out[0]) + std::abs(out[1]);
+        const double vs = std::abs(out[4]) + std::abs(out[5]);
+        // The reflection, r - out, moves the other way: t = +Z v going down (up = true), -Z v up.
+        const Eigen::Vector2d back_t = tr - out.head<2>(), back_v = vr - out.tail<2>();
+        BOOST_TEST((back_t - (up ? 1.0 : -1.0) * (medium.z * back_v)).norm() <= 1e-12 * ts);
+        switch (kind) {
+          case BoundaryKind::free:
+          case BoundaryKind::traction:
+            BOOST_TEST(tr.norm() <= 1e-12 * ts);
+            break;
+          case BoundaryKind::fixed:
+          case BoundaryKind::velocity:
+            BOOST_TEST(vr.norm() <= 1e-12 * vs);
+            break;
+          case BoundaryKind::roller:
+            BOOST_TEST(std::abs(vr[n]) <= 1e-12 * vs);
+            BOOST_TEST(std::abs(tr[t]) <= 1e-12 * ts);
+            break;
+        }
+      }
+    }
+  }
 }

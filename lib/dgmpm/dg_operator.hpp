@@ -213,35 +213,50 @@ class DGOperator {
   }
 
   // CTU: the correction of face g's star state (g normal to t): each fluctuation w that entered
-  // one of g's cells through a face normal to another axis sends transverse waves across g.
-  // Against a boundary (grid side or void cell) the mirror image of the cell sends its part back
-  // in. Reads only the fluctuations entering g's occupied cells.
-  [[gnu::always_inline]] inline State transverse_correction(int t, int g,
-                                                            const FaceFluctuations& w) const
+  // one of g's cells through a face normal to another axis sends transverse waves across g, split
+  // in the media of g's two sides (transverse_medium). Against a boundary (grid side or void cell)
+  // the mirror image of the cell sends its part back in. Reads only the fluctuations entering g's
+  // occupied cells, and (physics whose waves depend on the state) their edge states at g.
+  [[gnu::always_inline]] inline State transverse_correction(int t, int g, const FaceFluctuations& w,
+                                                            const NodalField& qn) const
       requires(corner_transport) {
     State correction = State::Zero();
     const auto [gm, gp] = faces_.cells(t, g);
     for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
       const int c = up ? gm : gp, o = up ? gp : gm;
       if (!occupied(c)) continue;
-      const auto& mat = disc_.cell_material(c);
-      for (int l = 0; l < dim; ++l) {
-        if (l == t) continue;
-        for (int side = 0; side < 2; ++side) {
-          // c's face on `side` along l; c is its plus cell when it is c's lower face.
-          const int f = faces_.of_cell(l, c, side);
-          const State wf = w[l].col(2 * f + (side == 0));
-          if (occupied(o)) {
-            correction -= Physics::transverse(t, wf, mat, disc_.cell_material(o), up);
-          } else {
-            const State mirrored = Physics::reflect(boundary_.kind(t, g), t, wf);
-            correction -= Physics::transverse(t, wf, mat, mat, up) +
-                          Physics::transverse(t, mirrored, mat, mat, !up);
+      const auto& here = transverse_medium(t, c, up, qn);
+      const auto add = [&](const auto& across) {
+        for (int l = 0; l < dim; ++l) {
+          if (l == t) continue;
+          for (int side = 0; side < 2; ++side) {
+            // c's face on `side` along l; c is its plus cell when it is c's lower face.
+            const int f = faces_.of_cell(l, c, side);
+            correction -= across(w[l].col(2 * f + (side == 0)));
           }
         }
+      };
+      if (occupied(o)) {
+        const auto& there = transverse_medium(t, o, !up, qn);
+        add([&](const State& wf) { return Physics::transverse(t, wf, here, there, up); });
+      } else {
+        const BoundaryKind kind = boundary_.kind(t, g);
+        add([&](const State& wf) {
+          return Physics::transverse_at_boundary(kind, t, wf, here, up);
+        });
       }
     }
     return correction;
+  }
+
+  // CTU: the medium cell c's transverse waves cross its face on `side` along t in: its material,
+  // or what the physics makes of its edge state there.
+  [[gnu::always_inline]] inline decltype(auto) transverse_medium(int t, int c, int side,
+                                                                 const NodalField& qn) const {
+    if constexpr (physics::StateDependentTransverse<Physics>)
+      return Physics::transverse_medium(t, edge_state(qn, c, t, side), disc_.cell_material(c));
+    else
+      return (disc_.cell_material(c));
   }
 
   // Power delivered to the particles by the prescribed boundary loads at time t: the sum over
@@ -466,7 +481,7 @@ class DGOperator {
         if (!up && o == c - faces_.stride(l) && o >= sweep.begin && occupied(o)) {
           star = slot;  // solved by o, as its upper face, just before
         } else if constexpr (scheme == FluxScheme::ctu) {
-          star = star_[l].col(f) + transverse_correction(l, f, fluctuation_);
+          star = star_[l].col(f) + transverse_correction(l, f, fluctuation_, qn);
         } else {
           // face_star's star, from this side: the same Riemann problem as the other cell solves.
           const State mine = edge_average(q, l, up);

@@ -122,7 +122,7 @@ class ReferenceStepper {
         if (!active[l][f]) continue;
         State s = star[l].col(f);
         if constexpr (Op::corner_transport)
-          if (options_.flux == FluxScheme::ctu) s += op_.transverse_correction(l, f, w);
+          if (options_.flux == FluxScheme::ctu) s += op_.transverse_correction(l, f, w, q);
         const auto [cm, cp] = op_.face_cells(l, f);
         for (int side = 0; side < 2; ++side) {
           const int c = side ? cp : cm;

@@ -67,6 +67,10 @@ struct Advection {
     const double b = 0.5 * (here.speed[axis] + there.speed[axis]);
     return (up ? b > 0.0 : b < 0.0) ? w : State::Zero();
   }
+  static State transverse_at_boundary(BoundaryKind kind, int axis, const State& w,
+                                      const Material& m, bool up) {
+    return transverse(axis, w, m, m, up) + transverse(axis, reflect(kind, axis, w), m, m, !up);
+  }
   static State reflect(BoundaryKind kind, int /*axis*/, const State& w) {
     return kind == BoundaryKind::free ? w : State::Zero();
   }

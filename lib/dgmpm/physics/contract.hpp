@@ -13,6 +13,8 @@
 #include <array>
 #include <concepts>
 #include <cstddef>
+#include <type_traits>
+#include <utility>
 
 namespace dgmpm::physics {
 
@@ -59,14 +61,35 @@ concept ConservationLaw = requires(const typename P::State& q, const typename P:
   requires GhostBoundary<P> || DirectBoundary<P>;
 };
 
-// CTU in 2D: the fluctuations entering a cell, their transverse split and a boundary's mirror map.
+// CTU in 2D: the fluctuations entering a cell, their transverse split and what a boundary does to
+// a transverse wave. The split is linearised in a "medium" per cell side of the crossed face: the
+// cell's material, or, where the waves depend on the state (finite strain), what
+// `transverse_medium(axis, q, m)` makes of the cell's edge state q there.
+template <class P>
+concept StateDependentTransverse =
+    requires(const typename P::State& q, const typename P::Material& m, int axis) {
+  P::transverse_medium(axis, q, m);
+};
+template <class P>
+struct TransverseMediumOf {
+  using type = typename P::Material;
+};
+template <StateDependentTransverse P>
+struct TransverseMediumOf<P> {
+  using type = std::remove_cvref_t<decltype(P::transverse_medium(
+      0, std::declval<const typename P::State&>(), std::declval<const typename P::Material&>()))>;
+};
+template <class P>
+using TransverseMedium = typename TransverseMediumOf<P>::type;
+
 template <class P>
 concept CornerTransport = ConservationLaw<P> &&
-    requires(const typename P::State& q, const typename P::Material& m, int axis, int side, bool up,
-             BoundaryKind kind) {
+    requires(const typename P::State& q, const typename P::Material& m,
+             const TransverseMedium<P>& medium, int axis, int side, bool up, BoundaryKind kind) {
   { P::fluctuation(axis, q, q, m, side) } -> std::convertible_to<typename P::State>;
-  { P::transverse(axis, q, m, m, up) } -> std::convertible_to<typename P::State>;
-  { P::reflect(kind, axis, q) } -> std::convertible_to<typename P::State>;
+  { P::transverse(axis, q, medium, medium, up) } -> std::convertible_to<typename P::State>;
+  { P::transverse_at_boundary(kind, axis, q, medium, up) }
+      -> std::convertible_to<typename P::State>;
 };
 
 // What the operator needs: the conservation law; CTU also needs CornerTransport in 2D (the

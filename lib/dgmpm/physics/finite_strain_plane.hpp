@@ -15,8 +15,14 @@
 // (boundary_star). A state whose acoustic tensor is not positive definite makes Z, and so the
 // step, NaN; a run checks each particle's speed with its time step first, to name the particle.
 //
-// Corner transport (CTU) is not provided: its transverse split needs the entered cell's state,
-// not only its material, and the solver refuses "ctu" with finite strain.
+// Corner transport (CTU): a fluctuation w = (dF, dv) entering a cell through a face normal to X
+// is split into the waves of the Jacobian along the other axis Y, linearised at the cell's edge
+// state on the crossed face (transverse_medium: Z_Y and the traction's tangent row
+// dt_i = dP_iY / dF_kL dF_kL). Its zero-speed waves carry dF_X (with the dF_Y that keeps
+// P e_Y unchanged) and no flux along Y; its moving waves carry (dt, dv) with dt = -Z dv (to +Y)
+// or +Z dv (to -Y), so the part moving up is dv = (2 Z)^-1 (Z w_v - dt(w)), transmitted into the
+// neighbour's medium as a Riemann problem between the two impedances. A boundary reflects it as
+// its star state does a state (boundary_response).
 //
 // Particles carry their displacement u (internal variables, u += dt v after each step), so the
 // current position is X + u.
@@ -152,29 +158,59 @@ struct FiniteStrainPlane {
     Mat s;
     side_of(axis, q, m, t, s);
     if (!side) s = -s;
-    const Vec v = q.template tail<2>();
-    const int n = axis, tg = 1 - axis;
-    switch (kind) {
-      case BoundaryKind::free:
-        return star(Vec::Zero(), v - s.inverse() * t);
-      case BoundaryKind::traction: {
-        Vec prescribed;
-        prescribed[n] = value[0];
-        prescribed[tg] = value[1];
-        return star(prescribed, v + s.inverse() * (prescribed - t));
-      }
-      case BoundaryKind::fixed:
-        return star(t - s * v, Vec::Zero());
-      case BoundaryKind::velocity:
-        return star(t + s * (value - v), value);
-      case BoundaryKind::roller: {
-        Vec v_star;
-        v_star[n] = 0.0;
-        v_star[tg] = v[tg] + (s(tg, n) * v[n] - t[tg]) / s(tg, tg);
-        return star(t + s * (v_star - v), v_star);
-      }
-    }
-    return star(t, v);
+    return boundary_response(kind, value, axis, t, q.template tail<2>(), s);
+  }
+
+  // --- CTU (the interface: plane_strain.hpp) -----------------------------------------------------
+  // A^-dq = F(q*) - F(q-) (side 0) or A^+dq = F(q+) - F(q*) (side 1), the flux of a state being
+  // -(v (x) N, P N), as a rate of the physical (F, v).
+  static State fluctuation(int axis, const State& star_state, const State& q, const Material& m,
+                           int side) {
+    const Mat p = Law::plane_stress(gradient(q, m.density), m.moduli);
+    const State own = flux(axis, star(p.col(axis), q.template tail<2>()), m);
+    State w = side ? State(own - flux(axis, star_state, m)) : State(flux(axis, star_state, m) - own);
+    w.template tail<2>() /= m.density;
+    return w;
+  }
+
+  // What a transverse wave crossing a face normal to `axis` needs of the cell's edge state there:
+  // the impedance tensor along the axis and the traction's tangent, dt_i = d_traction(i, 2 k + L)
+  // dF_kL.
+  struct Medium {
+    Mat z;
+    Eigen::Matrix<double, 2, 4> d_traction;
+  };
+  static Medium transverse_medium(int axis, const State& q, const Material& m) {
+    const PlaneTangent a = Law::plane_tangent(gradient(q, m.density), m.moduli);
+    Medium medium;
+    for (int i = 0; i < 2; ++i)
+      for (int k = 0; k < 2; ++k)
+        for (int L = 0; L < 2; ++L) medium.d_traction(i, 2 * k + L) = a[i][axis][k][L];
+    Mat acoustic;
+    for (int i = 0; i < 2; ++i)
+      for (int k = 0; k < 2; ++k) acoustic(i, k) = a[i][axis][k][axis];
+    medium.z = impedance_tensor(acoustic, m.density);
+    return medium;
+  }
+
+  // The part of w that leaves `here` toward +axis (up) or -axis, transmitted into `there`: a star
+  // increment whose flux along the axis is B^+ w (or B^- w).
+  static State transverse(int /*axis*/, const State& w, const Medium& here, const Medium& there,
+                          bool up) {
+    const double sign = up ? -1.0 : 1.0;  // dt = -Z dv on waves to +axis, +Z dv to -axis
+    const Vec dt = here.d_traction * w.template head<4>();
+    const Vec dv = (here.z + there.z).inverse() * (here.z * w.template tail<2>() + sign * dt);
+    return star(sign * (there.z * dv), dv);
+  }
+
+  // Against a boundary: the wave leaving into an identical medium, and what the boundary sends
+  // back, summed: the boundary's star state with no load (a velocity boundary reflects as a fixed
+  // one, a traction as a free one) for that wave as the inside state.
+  static State transverse_at_boundary(BoundaryKind kind, int axis, const State& w,
+                                      const Medium& here, bool up) {
+    const State out = transverse(axis, w, here, here, up);
+    return boundary_response(kind, Vec::Zero(), axis, out.template head<2>(),
+                             out.template tail<2>(), up ? here.z : Mat(-here.z));
   }
 
   // The MPM baseline's constitutive part, total Lagrangian (its grid is the reference
@@ -241,6 +277,33 @@ struct FiniteStrainPlane {
   }
 
  private:
+  // The star state of a boundary whose inside has traction t, velocity v and, across the wave
+  // into it, t* - t = S (v* - v).
+  static State boundary_response(BoundaryKind kind, const Vec& value, int axis, const Vec& t,
+                                 const Vec& v, const Mat& s) {
+    const int n = axis, tg = 1 - axis;
+    switch (kind) {
+      case BoundaryKind::free:
+        return star(Vec::Zero(), v - s.inverse() * t);
+      case BoundaryKind::traction: {
+        Vec prescribed;
+        prescribed[n] = value[0];
+        prescribed[tg] = value[1];
+        return star(prescribed, v + s.inverse() * (prescribed - t));
+      }
+      case BoundaryKind::fixed:
+        return star(t - s * v, Vec::Zero());
+      case BoundaryKind::velocity:
+        return star(t + s * (value - v), value);
+      case BoundaryKind::roller: {
+        Vec v_star;
+        v_star[n] = 0.0;
+        v_star[tg] = v[tg] + (s(tg, n) * v[n] - t[tg]) / s(tg, tg);
+        return star(t + s * (v_star - v), v_star);
+      }
+    }
+    return star(t, v);
+  }
   static State star(const Vec& t, const Vec& v) {
     State s;
     s << t, 0.0, 0.0, v;

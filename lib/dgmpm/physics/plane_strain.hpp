@@ -16,7 +16,11 @@
 //                                        across the edge normal to `axis` into `there` (up: to
 //                                        +axis), as a star-state increment: F_axis of it is B^+w
 //                                        (or B^-w)
-//   reflect(kind, axis, w)               the boundary's mirror map R (linear part of its ghost)
+//   transverse_at_boundary(kind, axis, w, m, up)
+//                                        the same against a boundary normal to `axis`: the
+//                                        outgoing wave and its reflection (the mirror image's
+//                                        wave coming back in; reflect: the mirror map R, the
+//                                        linear part of the ghost)
 
 #include "../boundary.hpp"
 #include "small_strain.hpp"
@@ -219,6 +223,13 @@ struct PlaneStrain {
     r[vt] = bs;
     r[sxy] = sign * zst * bs;
     return r;
+  }
+
+  // Against a boundary, the solution beyond continues as the mirror image of the cell: its wave
+  // leaves into an identical medium, and the image's mirrored fluctuation sends its wave back in.
+  static State transverse_at_boundary(BoundaryKind kind, int axis, const State& w,
+                                      const Material& m, bool up) {
+    return transverse(axis, w, m, m, up) + transverse(axis, reflect(kind, axis, w), m, m, !up);
   }
 
   // The mirror image under a boundary normal to `axis`: the linear part of the ghost rule (the
