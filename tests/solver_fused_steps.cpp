@@ -6,7 +6,7 @@
 // give the same particle states and internal variables to the last bit, on 1D and 2D scenes with
 // boundaries (traction, free, roller), periodic axes, void cells, massless and near-empty nodes,
 // over-full and empty cells inside a body, two materials, plastic flow (a return at each
-// particle), with DCU and CTU fluxes (threads: tests/solver_threads.cpp).
+// particle), finite strain, with DCU and CTU fluxes (threads: tests/solver_threads.cpp).
 #define BOOST_TEST_MODULE solver_fused_steps
 #include <boost/test/unit_test.hpp>
 
@@ -93,6 +93,13 @@ json plastic(json doc) {
   return doc;
 }
 
+// The plate's materials neo-Hookean (finite strain, total Lagrangian: the displacement is the
+// internal variable).
+json finite(json doc) {
+  for (auto& [name, material] : doc["materials"].items()) material["model"] = "neo_hookean";
+  return doc;
+}
+
 void check_every_scene() {
   for (const std::string integrator : {"euler", "rk2"}) {
     BOOST_TEST_CONTEXT(integrator) {
@@ -115,7 +122,11 @@ void check_every_scene() {
            largest_difference<PlaneStrain>(test::periodic(plate(integrator, "ctu"), {true, false}),
                                            20)},
           {"2D CTU plastic",
-           largest_difference<PlaneStrainPlastic>(plastic(plate(integrator, "ctu")), 20)}};
+           largest_difference<PlaneStrainPlastic>(plastic(plate(integrator, "ctu")), 20)},
+          {"2D finite strain", largest_difference<FiniteStrainPlane<NeoHookean>>(
+                                   finite(plate(integrator)), 20)},
+          {"2D finite strain CTU", largest_difference<FiniteStrainPlane<NeoHookean>>(
+                                       finite(plate(integrator, "ctu")), 20)}};
       for (const auto& [name, difference] : differences) {
         BOOST_TEST_MESSAGE(integrator << ", " << name << ": largest difference " << difference);
         BOOST_TEST(difference == 0.0, name);
