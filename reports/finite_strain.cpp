@@ -224,12 +224,14 @@ std::string percent(double x) {
 }
 
 // The pressed plate (scenes/plate_finite_strain.json, neo-Hookean, plane strain) by DGMPM as
-// shipped and by MPM USL, particle files at the end under dir/plate_finite_strain_<tag>.
+// shipped (DCU), with CTU, and by MPM USL, particle files at the end under
+// dir/plate_finite_strain_<tag>.
 struct PlateRun {
   const char* tag;
   const char* title;
 };
 const PlateRun plate_runs[] = {{"dgmpm", "DGMPM DCU Euler, auto"},
+                               {"dgmpm_ctu", "DGMPM CTU Euler, auto"},
                                {"mpm_usl", "MPM USL (FLIP), Courant 0.5"}};
 struct PlateResult {
   long steps = 0;
@@ -240,7 +242,9 @@ PlateResult run_plate(const PlateRun& run, const std::string& dir) {
   using Plane = FiniteStrainPlane<NeoHookean>;
   nlohmann::json doc;
   std::ifstream(data_file("scenes/plate_finite_strain.json")) >> doc;
-  if (std::string(run.tag) != "dgmpm") {
+  const std::string tag = run.tag;
+  if (tag == "dgmpm_ctu") doc["flux"] = "ctu";
+  if (tag == "mpm_usl") {
     doc["method"] = "mpm-usl";
     doc["time"]["courant"] = 0.5;
   }
@@ -253,7 +257,7 @@ PlateResult run_plate(const PlateRun& run, const std::string& dir) {
   PlateResult r{summary.steps, summary.stepping_seconds};
   r.energy = summary.energy_final;  // from rest: the initial energy is 0
   // MPM's work of the loads is an estimate for its blow-up check (solver/mpm.hpp): not shown.
-  if (std::string(run.tag) == "dgmpm") r.work = summary.boundary_work;
+  if (tag != "mpm_usl") r.work = summary.boundary_work;
   const auto& ps = sim.particles();
   for (int i = 0; i < ps.size(); ++i) {
     const auto& m = sim.problem().materials[ps.material[i]];
@@ -419,9 +423,9 @@ FiniteStrainSection finite_strain_section(const std::string& dir, bool quick, bo
         "**A pressed plate in plane strain** (`scenes/plate_finite_strain.json`): a neo-Hookean "
         "steel plate 0.4 m x 0.2 m at rest, 80 x 40 cells, one particle per cell, on a roller "
         "along y = 0; the first 0.05 m of its left side pressed by a nominal pressure of 30 GPa (a "
-        "traction boundary), 6e-5 s. DGMPM (DCU Euler, the automatic step from the particles' "
-        "largest "
-        "speed over directions) and the MPM baseline (total Lagrangian) on the same scene:\n\n"
+        "traction boundary), 6e-5 s. DGMPM (DCU and CTU, Euler, the automatic step from the "
+        "particles' largest speed over directions) and the MPM baseline (total Lagrangian) on the "
+        "same scene:\n\n"
         "| method | steps | stepping (s) | largest displacement (m) | least J | least sigma_xx "
         "(GPa) | final energy (J/m) | work of the load (J/m) |\n"
         "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
@@ -432,6 +436,11 @@ FiniteStrainSection finite_strain_section(const std::string& dir, bool quick, bo
        << fixed(p.least_sigma * 1e-9, 1) << " | " << sci(p.energy, 3) << " | "
        << (std::isnan(p.work) ? "n/a" : sci(p.work, 3)) << " |\n";
   }
+  md << "\nThe load's end at y = 0.05 m is a singular point of the solution (the nominal traction "
+        "jumps from 30 GPa to zero there): the cells next to it shear by order one within the "
+        "first 1e-5 s, the largest displacement and velocity sit near it and grow as the grid is "
+        "refined, and the methods differ most there. The largest displacement above measures that "
+        "corner; it is not a converged quantity.\n";
   md << "\n![pressed plate](finite_strain_plate.png)\n\n"
         "Raw data: `finite_strain_runs.csv`, `finite_strain_profiles.csv`, "
         "`finite_strain_fan.csv`, `plate_finite_strain_*/`.\n\n";

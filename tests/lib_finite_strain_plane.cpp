@@ -276,7 +276,8 @@ void check_transverse_split() {
       }
       // The moving waves, from the acoustic tensor's eigenvectors: dv = e, dF_i,axis = -+e_i / c
       // (to +axis, -axis), the other column of dF free (a zero-speed part).
-      const Eigen::Matrix2d a = acoustic_tensor(Law::plane_tangent(f, k), Eigen::Vector2d::Unit(axis));
+      const Eigen::Matrix2d a =
+          acoustic_tensor(Law::plane_tangent(f, k), Eigen::Vector2d::Unit(axis));
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(a);
       for (int e = 0; e < 2; ++e)
         for (const bool up : {true, false}) {
@@ -336,8 +337,10 @@ BOOST_AUTO_TEST_CASE(transverse_split_at_the_reference_is_small_strain) {
           const double scale = std::abs(s[nn]) + std::abs(s[PlaneStrain::sxy]);
           BOOST_TEST(std::abs(r[axis] - s[nn]) <= 1e-12 * scale);
           BOOST_TEST(std::abs(r[1 - axis] - s[PlaneStrain::sxy]) <= 1e-12 * scale);
-          BOOST_TEST(std::abs(r[4] - s[PlaneStrain::vx]) <= 1e-12 * (std::abs(s[3]) + std::abs(s[4])));
-          BOOST_TEST(std::abs(r[5] - s[PlaneStrain::vy]) <= 1e-12 * (std::abs(s[3]) + std::abs(s[4])));
+          BOOST_TEST(std::abs(r[4] - s[PlaneStrain::vx]) <=
+                     1e-12 * (std::abs(s[3]) + std::abs(s[4])));
+          BOOST_TEST(std::abs(r[5] - s[PlaneStrain::vy]) <=
+                     1e-12 * (std::abs(s[3]) + std::abs(s[4])));
         }
       }
     }
@@ -357,9 +360,9 @@ BOOST_AUTO_TEST_CASE(transverse_reflection_meets_the_boundary_condition) {
     const int n = axis, t = 1 - axis;
     for (const bool up : {true, false}) {
       const P::State out = P::transverse(axis, w, medium, medium, up);
-      for (const BoundaryKind kind : {BoundaryKind::free, BoundaryKind::traction,
-                                      BoundaryKind::fixed, BoundaryKind::velocity,
-                                      BoundaryKind::roller}) {
+      for (const BoundaryKind kind :
+           {BoundaryKind::free, BoundaryKind::traction, BoundaryKind::fixed, BoundaryKind::velocity,
+            BoundaryKind::roller}) {
         const P::State r = P::transverse_at_boundary(kind, axis, w, medium, up);
         const Eigen::Vector2d tr = r.head<2>(), vr = r.tail<2>();
         const double ts = std::abs(out[0]) + std::abs(out[1]);

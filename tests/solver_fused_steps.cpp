@@ -123,8 +123,8 @@ void check_every_scene() {
                                            20)},
           {"2D CTU plastic",
            largest_difference<PlaneStrainPlastic>(plastic(plate(integrator, "ctu")), 20)},
-          {"2D finite strain", largest_difference<FiniteStrainPlane<NeoHookean>>(
-                                   finite(plate(integrator)), 20)},
+          {"2D finite strain",
+           largest_difference<FiniteStrainPlane<NeoHookean>>(finite(plate(integrator)), 20)},
           {"2D finite strain CTU", largest_difference<FiniteStrainPlane<NeoHookean>>(
                                        finite(plate(integrator, "ctu")), 20)}};
       for (const auto& [name, difference] : differences) {

@@ -642,9 +642,9 @@ BOOST_AUTO_TEST_CASE(refuses_what_finite_strain_cannot_mean) {
       doc, {"bodies[0].deformation_gradient: value [1.01] is a finite-strain key", "small-strain"});
 }
 
-// 2D finite strain (CTU accepted): a deformation gradient of the wrong size, outside the range (det F <= 0,
-// or an acoustic tensor not positive definite in some direction: SVK compressed to 0.7 in plane
-// strain, where oblique waves fail though 0.7 > 1/sqrt(3)), and a normal traction past the
+// 2D finite strain (CTU accepted): a deformation gradient of the wrong size, outside the range (det
+// F <= 0, or an acoustic tensor not positive definite in some direction: SVK compressed to 0.7 in
+// plane strain, where oblique waves fail though 0.7 > 1/sqrt(3)), and a normal traction past the
 // uniaxial limit (SVK in plane strain: P_xx(0.70562) = (M / 2) F (F^2 - 1) = -4.77e10 Pa).
 BOOST_AUTO_TEST_CASE(refuses_what_2d_finite_strain_cannot_mean) {
   std::ifstream in(std::string(DGMPM_TEST_SOURCE_DIR) + "/scenes/neo_hookean_strip.json");

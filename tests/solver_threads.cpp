@@ -98,6 +98,15 @@ BOOST_AUTO_TEST_CASE(two_dimensions) {
         test::periodic(plate(flux, "rk2", false), {true, false}),
         std::string("2D ") + flux + " rk2 periodic along x");
   }
+  // Finite strain: the time step from the particles' speeds (on threads), CTU's transverse media
+  // from the edge states.
+  for (const char* flux : {"dcu", "ctu"}) {
+    json doc = plate(flux, "euler", false);
+    for (auto& [name, material] : doc["materials"].items()) material["model"] = "neo_hookean";
+    doc["time"]["courant"] = "auto";
+    same_on_one_and_two_threads<FiniteStrainPlane<NeoHookean>>(
+        doc, std::string("2D finite strain ") + flux + " auto");
+  }
 }
 
 BOOST_AUTO_TEST_CASE(mpm_baseline) {

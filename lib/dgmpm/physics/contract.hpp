@@ -66,8 +66,8 @@ concept ConservationLaw = requires(const typename P::State& q, const typename P:
 // cell's material, or, where the waves depend on the state (finite strain), what
 // `transverse_medium(axis, q, m)` makes of the cell's edge state q there.
 template <class P>
-concept StateDependentTransverse =
-    requires(const typename P::State& q, const typename P::Material& m, int axis) {
+concept StateDependentTransverse = requires(const typename P::State& q,
+                                            const typename P::Material& m, int axis) {
   P::transverse_medium(axis, q, m);
 };
 template <class P>
@@ -88,8 +88,9 @@ concept CornerTransport = ConservationLaw<P> &&
              const TransverseMedium<P>& medium, int axis, int side, bool up, BoundaryKind kind) {
   { P::fluctuation(axis, q, q, m, side) } -> std::convertible_to<typename P::State>;
   { P::transverse(axis, q, medium, medium, up) } -> std::convertible_to<typename P::State>;
-  { P::transverse_at_boundary(kind, axis, q, medium, up) }
-      -> std::convertible_to<typename P::State>;
+  {
+    P::transverse_at_boundary(kind, axis, q, medium, up)
+    } -> std::convertible_to<typename P::State>;
 };
 
 // What the operator needs: the conservation law; CTU also needs CornerTransport in 2D (the

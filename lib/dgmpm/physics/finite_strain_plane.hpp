@@ -168,7 +168,8 @@ struct FiniteStrainPlane {
                            int side) {
     const Mat p = Law::plane_stress(gradient(q, m.density), m.moduli);
     const State own = flux(axis, star(p.col(axis), q.template tail<2>()), m);
-    State w = side ? State(own - flux(axis, star_state, m)) : State(flux(axis, star_state, m) - own);
+    State w =
+        side ? State(own - flux(axis, star_state, m)) : State(flux(axis, star_state, m) - own);
     w.template tail<2>() /= m.density;
     return w;
   }
