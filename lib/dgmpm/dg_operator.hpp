@@ -214,18 +214,24 @@ class DGOperator {
 
   // CTU: the correction of face g's star state (g normal to t): each fluctuation w that entered
   // one of g's cells through a face normal to another axis sends transverse waves across g, split
-  // in the media of g's two sides (transverse_medium). Against a boundary (grid side or void cell)
-  // the mirror image of the cell sends its part back in. Reads only the fluctuations entering g's
-  // occupied cells, and (physics whose waves depend on the state) their edge states at g.
+  // in the media of g's two sides (transverse_medium, each taken once). Against a boundary (grid
+  // side or void cell) the mirror image of the cell sends its part back in. Reads only the
+  // fluctuations entering g's occupied cells, and (physics whose waves depend on the state) their
+  // edge states at g.
   [[gnu::always_inline]] inline State transverse_correction(int t, int g, const FaceFluctuations& w,
                                                             const NodalField& qn) const
       requires(corner_transport) {
     State correction = State::Zero();
     const auto [gm, gp] = faces_.cells(t, g);
+    const bool occupied_minus = occupied(gm), occupied_plus = occupied(gp);
+    // An empty side's medium is never read: it stands in as the other side's.
+    const auto& minus = occupied_minus ? transverse_medium(t, gm, 1, qn)
+                                       : transverse_medium(t, gp, 0, qn);
+    const auto& plus = occupied_plus ? transverse_medium(t, gp, 0, qn) : minus;
     for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
-      const int c = up ? gm : gp, o = up ? gp : gm;
-      if (!occupied(c)) continue;
-      const auto& here = transverse_medium(t, c, up, qn);
+      const int c = up ? gm : gp;
+      if (!(up ? occupied_minus : occupied_plus)) continue;
+      const auto& here = up ? minus : plus;
       const auto add = [&](const auto& across) {
         for (int l = 0; l < dim; ++l) {
           if (l == t) continue;
@@ -236,8 +242,8 @@ class DGOperator {
           }
         }
       };
-      if (occupied(o)) {
-        const auto& there = transverse_medium(t, o, !up, qn);
+      if (up ? occupied_plus : occupied_minus) {
+        const auto& there = up ? plus : minus;
         add([&](const State& wf) { return Physics::transverse(t, wf, here, there, up); });
       } else {
         const BoundaryKind kind = boundary_.kind(t, g);
