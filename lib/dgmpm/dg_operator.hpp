@@ -225,8 +225,8 @@ class DGOperator {
     const auto [gm, gp] = faces_.cells(t, g);
     const bool occupied_minus = occupied(gm), occupied_plus = occupied(gp);
     // An empty side's medium is never read: it stands in as the other side's.
-    const auto& minus = occupied_minus ? transverse_medium(t, gm, 1, qn)
-                                       : transverse_medium(t, gp, 0, qn);
+    const auto& minus =
+        occupied_minus ? transverse_medium(t, gm, 1, qn) : transverse_medium(t, gp, 0, qn);
     const auto& plus = occupied_plus ? transverse_medium(t, gp, 0, qn) : minus;
     for (int up = 1; up >= 0; --up) {  // g: the upper face of its minus cell, the lower of its plus
       const int c = up ? gm : gp;
