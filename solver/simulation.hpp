@@ -4,10 +4,12 @@
 // time. Simulation<Physics> is the loop of one physics; make_simulation is the one place where
 // a scene's dimension picks it.
 
+#include "solver/blow_up_monitor.hpp"
 #include "solver/communicator.hpp"
 #include "solver/halo.hpp"
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
+#include "solver/stepping_method.hpp"
 #include "solver/time_step_control.hpp"
 
 #include <dgmpm/physics/contract.hpp>
@@ -24,9 +26,6 @@
 #include <vector>
 
 namespace dgmpm {
-
-template <class Physics>
-class Mpm;
 
 struct ErrorNorms {
   double l1 = 0, l2 = 0, max = 0;  // relative, see relative_errors()
@@ -131,11 +130,11 @@ class Simulation final : public SimulationBase {
 
   // Step length of the current configuration: from the scene's Courant number, or from the
   // stability analysis of the cells' layouts with "courant": "auto" (recomputed after moves).
-  double stable_time_step() const { return dt_; }
-  // DGMPM only (empty for MPM).
-  const std::optional<TimeStepControl<Physics>>& time_step_control() const { return time_control_; }
+  double stable_time_step() const { return method_->time_step(); }
+  // DGMPM only (null for MPM).
+  const TimeStepControl<Physics>* time_step_control() const { return method_->time_step_control(); }
   // Set up: a fixed Courant number above the admissible one of some cell's layout. Any time: the
-  // first cell holding more than a full cell's mass (see warn_if_overfull_cell).
+  // first cell holding more than a full cell's mass (DgmpmMethod::warn_if_overfull_cell).
   const std::vector<std::string>& warnings() const override { return warnings_; }
   // One step of length dt; moves particles and rebuilds the operators when the scene asks.
   // Throws std::runtime_error naming the step, time, particle and cell on a non-finite state or
@@ -176,8 +175,8 @@ class Simulation final : public SimulationBase {
   }();
   Energy energy_parts() const;
   double energy() const { return energy_parts().total(); }
-  // Work done on the body by the boundary loads so far (DGMPM; trapezoidal in time).
-  double boundary_work() const { return work_; }
+  // Work done on the body by the boundary loads so far (DGMPM, trapezoidal in time; 0 for MPM).
+  double boundary_work() const { return method_->boundary_work().value_or(0.0); }
   // Requires an exact solution; owned particles. Evaluated at the particles' initial positions:
   // with moving particles (small strain) fields are compared in the material coordinate.
   Field exact_state(double t) const;
@@ -194,14 +193,7 @@ class Simulation final : public SimulationBase {
   void check_finite() const;
   void check_growth();
   Energy particle_energy(int i) const;
-  void warn_if_above_admissible();
   void warn_about_untouched_loads();
-  void warn_if_overfull_cell(long step, double t);
-  // time.check_scene_every: halves dt_ until the frozen scene's spectral radius is at most 1.
-  void check_scene(long step, double t);
-  void choose_time_step(long step, double t);
-  void check_hyperbolic(long step, double t) const;  // speeds that change with the state
-  double load_power() const;
   void write_particles(const std::string& path) const;
   void write_vtu(std::size_t k, const std::string& directory, const std::string& name) const;
   void distribute(Communicator& ranks);
@@ -257,9 +249,7 @@ class Simulation final : public SimulationBase {
 
   scene::Scene scene_;
   Problem<Physics> problem_;
-  std::unique_ptr<Stepper<Physics>> stepper_;  // DGMPM
-  std::unique_ptr<Mpm<Physics>> mpm_;          // MPM baseline
-  std::unique_ptr<Halo<ParticleSet>> halo_;    // distributed runs
+  std::unique_ptr<Halo<ParticleSet>> halo_;  // distributed runs
   int total_particles_ = 0, total_cells_ = 0;
   double setup_seconds_ = 0;  // the constructor's wall time
   // Of the materials the particles carry (at their current states where speeds change with the
@@ -267,16 +257,13 @@ class Simulation final : public SimulationBase {
   double max_speed_ = 0, step_speed_ = 0;
   double cell_size() const { return problem_.grid.cell_size.minCoeff(); }
   double courant_per_dt() const { return max_speed_ / cell_size(); }
-  std::optional<TimeStepControl<Physics>> time_control_;
   std::vector<std::string> warnings_;
-  double time_ = 0, dt_ = 0, work_ = 0, power_ = 0;
-  bool loaded_ = false;  // some boundary does work (traction or velocity)
+  double time_ = 0;
   long steps_ = 0;
-  bool overfull_warned_ = false;
-  double scene_guard_factor_ = 1.0;  // what the last scene check scaled the automatic dt by
-  bool scene_guard_warned_ = false;
-  double initial_energy_ = 0, most_work_ = 0;  // for the blow-up check
-  int since_growth_check_ = 0;
+  // DGMPM or MPM: the step, the time step, the loads' work (declared after what it refers to).
+  std::unique_ptr<SteppingMethod<Physics>> method_;
+  double dt() const { return method_->time_step(); }
+  BlowUpMonitor blow_up_;
 };
 
 using BarSimulation = Simulation<ElasticBar>;
@@ -291,8 +278,5 @@ constexpr const char* energy_unit(int dim) {
 // `ranks`: see Simulation's constructor.
 std::unique_ptr<SimulationBase> make_simulation(const scene::Scene& scene,
                                                 Communicator* ranks = nullptr);
-
-// The stepper options a scene asks for (one definition for every caller).
-StepperOptions stepper_options(const scene::Scene& scene);
 
 }  // namespace dgmpm

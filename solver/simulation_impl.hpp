@@ -6,9 +6,9 @@
 #include "solver/simulation.hpp"
 
 #include "solver/checkpoint.hpp"
-#include "solver/frozen_spectrum.hpp"
-#include "solver/mpm.hpp"
+#include "solver/installation.hpp"
 #include "solver/output.hpp"
+#include "solver/stepping_method_impl.hpp"
 #include "solver/vtk_output.hpp"
 
 #include <algorithm>
@@ -22,24 +22,12 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
-#include <stability/layout.hpp>
 #include <unistd.h>
 #include <utility>
 
 namespace dgmpm {
 
 namespace {
-
-MpmVariant mpm_variant(scene::Method m) {
-  switch (m) {
-    case scene::Method::mpm_usf:
-      return MpmVariant::usf;
-    case scene::Method::mpm_musl:
-      return MpmVariant::musl;
-    default:
-      return MpmVariant::usl;
-  }
-}
 
 // Particles sorted by cell so that the per-cell loops read contiguous memory.
 template <class ParticleSet>
@@ -51,12 +39,6 @@ void sort_by_cell(const Grid<ParticleSet::dim>& grid, ParticleSet& particles) {
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cell[a] < cell[b]; });
   particles = particles.select(order);
-}
-
-std::string format_step(long step, double t) {
-  std::ostringstream s;
-  s << "step " << step << ", t = " << std::setprecision(10) << t;
-  return s.str();
 }
 
 const char* signal_name(int signal) {
@@ -79,17 +61,6 @@ std::string grid_extent(const Grid<Dim>& g) {
   return s.str();
 }
 
-template <int Dim>
-bool has_loads(const Grid<Dim>& grid, const Boundaries<Dim>& boundaries) {
-  for (int a = 0; a < Dim; ++a)
-    for (int side = 0; side < 2 && !grid.periodic[a]; ++side)
-      for (const auto& s : boundaries[a][side].segments)
-        if (s.condition.kind == BoundaryKind::traction ||
-            s.condition.kind == BoundaryKind::velocity)
-          return true;
-  return false;
-}
-
 }  // namespace
 template <class Physics>
 Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
@@ -98,7 +69,8 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks)
 template <class Physics>
 Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
                                 std::chrono::steady_clock::time_point start)
-    : scene_(scene), problem_(make_problem<Physics>(scene)) {
+    : scene_(scene), problem_(make_problem<Physics>(scene)),
+      blow_up_(scene.time.blow_up_check, scene.time.blow_up_factor) {
   sort_by_cell(problem_.grid, problem_.particles);
   total_particles_ = problem_.particles.size();
   total_cells_ = problem_.grid.num_cells();
@@ -107,83 +79,11 @@ Simulation<Physics>::Simulation(const scene::Scene& scene, Communicator* ranks,
     problem_.particles.tracks_reference = true;
     problem_.particles.reference = problem_.particles.position;
   }
-  const double h = problem_.grid.cell_size.minCoeff();
-  if (scene_.method == scene::Method::dgmpm) {
-    stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
-                                                  stepper_options(scene_));
-    stepper_->rebuild(problem_.particles, problem_.materials);
-    time_control_.emplace(scene_, max_speed_);
-    dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles,
-                                   problem_.materials);
-    if (!time_control_->automatic()) warn_if_above_admissible();
-    if (dim > 1 && time_control_->automatic() && scene_.particles_move) {
-      const int cell = time_control_->first_cell_past_the_lattice(stepper_->discretisation(),
-                                                                  problem_.particles);
-      if (cell >= 0)
-        warnings_.push_back(
-            "\"courant\": \"auto\" with moving particles: cell " + std::to_string(cell) +
-            " holds a layout no lattice bounds (under the consistent formulation: one or two "
-            "particles per cell, or any number placed as a product of per-axis positions): such "
-            "layouts are analysed anew as their particles drift, 0.05-0.5 s each and several per "
-            "step, and choosing steps may take most of the run; a fixed Courant number below "
-            "`dgmpm courant`'s limit for the layout, with time.check_scene_every as a guard, is "
-            "far cheaper");
-    }
-    if (scene_.time.check_scene_every > 0) check_scene(0, 0.0);
-    if (scene_.formulation == Formulation::paper) warn_if_overfull_cell(0, 0.0);
-    if (dim > 1 && scene_.flux == FluxScheme::ctu && scene_.time.integrator == TimeScheme::rk2)
-      warnings_.push_back(
-          "flux \"ctu\" with integrator \"rk2\": CTU's transverse corrections are a one-step "
-          "(Euler) device and RK2 already holds the cross terms they add; the pair is stable only "
-          "below Courant 1 even with one particle per cell (about 0.75 for nu = 0.3) and is not "
-          "exact at Courant 1 (use \"dcu\" with \"rk2\" or \"ctu\" with \"euler\")");
-    loaded_ = has_loads<dim>(problem_.grid, problem_.boundaries);
-    if (loaded_) power_ = load_power();
-  } else {
-    if (scene_.time.courant_auto)
-      throw scene::SceneError(scene_.source +
-                              ": time.courant: value \"auto\" is not available for method \"" +
-                              scene::to_string(scene_.method) +
-                              "\"; allowed: a positive number (the stability analysis is DGMPM's)");
-    dt_ = scene_.time.courant * h / problem_.max_wave_speed();
-    mpm_ = std::make_unique<Mpm<Physics>>(problem_.grid, problem_.boundaries, problem_.materials,
-                                          mpm_variant(scene_.method), scene_.update);
-  }
+  method_ = make_method<Physics>({scene_, problem_, halo_, warnings_, max_speed_});
   warn_about_untouched_loads();
   if (ranks && ranks->size() > 1) distribute(*ranks);
-  initial_energy_ = energy();
+  blow_up_.start(energy());
   setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The whole scene's operator, frozen, at the chosen step: halved until its spectral radius is at
-// most 1 (to the eigensolver's accuracy), the factor kept until the next check. What the
-// per-layout analysis cannot see (a configuration no cell's periodic model holds) is caught here.
-template <class Physics>
-void Simulation<Physics>::check_scene(long step, double t) {
-  constexpr double kTolerance = 1e-6;  // ARPACK's rho: to about 1e-8 (1e-7 on large scenes)
-  constexpr int kHalvings = 40;
-  const double h = problem_.grid.cell_size.minCoeff();
-  double factor = 1.0, first = 0.0, rho = 0.0;
-  for (int k = 0; k <= kHalvings; ++k) {
-    rho =
-        frozen_spectral_radius<Physics>(problem_.grid, problem_.boundaries, problem_.particles,
-                                        problem_.materials, stepper_options(scene_), factor * dt_);
-    if (k == 0) first = rho;
-    if (rho <= 1 + kTolerance) break;
-    factor *= 0.5;
-  }
-  scene_guard_factor_ = factor;
-  if (factor == 1.0) return;
-  dt_ *= factor;
-  if (scene_guard_warned_) return;
-  scene_guard_warned_ = true;
-  std::ostringstream s;
-  s << format_step(step, t) << ": the whole scene's operator has spectral radius " << first
-    << " at the automatic step (C = " << dt_ / factor * max_speed_ / h
-    << "); the step is scaled by " << factor << " (C = " << dt_ * max_speed_ / h
-    << ", spectral radius " << rho
-    << ") until the next check (time.check_scene_every; warned once)";
-  warnings_.push_back(s.str());
 }
 
 // Set up on the whole scene (so the time step and the warnings are the serial run's), then
@@ -191,14 +91,7 @@ void Simulation<Physics>::check_scene(long step, double t) {
 template <class Physics>
 void Simulation<Physics>::distribute(Communicator& ranks) {
   const std::string count = std::to_string(ranks.size()) + " MPI ranks";
-  if (scene_.time.check_scene_every > 0)
-    throw scene::SceneError(scene_.source + ": time.check_scene_every: value " +
-                            std::to_string(scene_.time.check_scene_every) +
-                            " is not available on " + count +
-                            " (the whole scene's operator is analysed on one rank); allowed: 0");
-  if (mpm_)
-    throw scene::SceneError(scene_.source + ": method: value \"" + scene::to_string(scene_.method) +
-                            "\" runs on one rank; allowed on " + count + ": \"dgmpm\"");
+  method_->check_distributable(count);
   const auto& grid = problem_.grid;
   const std::vector<int> dims =
       ranks.cartesian_layout(std::vector<bool>(grid.periodic.begin(), grid.periodic.end()),
@@ -217,180 +110,18 @@ void Simulation<Physics>::distribute(Communicator& ranks) {
   problem_.particles = halo_->distribute(problem_.particles);
   problem_.boundaries = halo_->subdomain().boundaries(problem_.boundaries);
   problem_.grid = halo_->subdomain().window();
-  stepper_ = std::make_unique<Stepper<Physics>>(problem_.grid, problem_.boundaries,
-                                                stepper_options(scene_));
-  stepper_->rebuild(problem_.particles, problem_.materials);
-  if (loaded_) power_ = load_power();
+  method_->distributed();
 }
 
 template <class Physics>
 Simulation<Physics>::~Simulation() = default;
 
 template <class Physics>
-void Simulation<Physics>::warn_if_above_admissible() {
-  // A 2D layout takes 0.1-3 s to analyse: a scene of many distinct layouts is not checked, and
-  // says so.
-  constexpr int kMaxLayouts2D = 16;
-  const auto& disc = stepper_->discretisation();
-  if (dim > 1) {
-    const int layouts = time_control_->layouts_to_analyse(disc, problem_.particles);
-    if (layouts > kMaxLayouts2D) {
-      warnings_.push_back(
-          "Courant number " + std::to_string(scene_.time.courant) +
-          " not checked against the admissible one: " + std::to_string(layouts) +
-          " distinct cell layouts (more than " + std::to_string(kMaxLayouts2D) +
-          " take long to analyse in 2D); \"courant\": \"auto\" analyses them "
-          "as the run needs them, `dgmpm courant --scene` analyses the whole scene");
-      return;
-    }
-  }
-  const auto limit = time_control_->smallest_admissible(disc, problem_.particles);
-  if constexpr (state_dependent_speed) {
-    const double safe = kFiniteStrainSafety * limit.courant;
-    if (scene_.time.courant > safe * (1 + 1e-9) && scene_.time.courant <= limit.courant) {
-      std::ostringstream s;
-      s << "Courant number " << scene_.time.courant << " is above " << kFiniteStrainSafety
-        << " times the admissible " << std::setprecision(6) << limit.courant
-        << ": with finite strain a step chosen with the speeds at its start can gain energy at "
-           "shocks (the state behind moves faster), and the energy may exceed the initial energy "
-           "plus the loads' work (\"auto\" uses "
-        << safe << ")";
-      warnings_.push_back(s.str());
-    }
-  }
-  if (!(scene_.time.courant > limit.courant * (1 + 1e-9))) return;
-  std::ostringstream s;
-  s << "Courant number " << scene_.time.courant << " is above the admissible "
-    << std::setprecision(6) << limit.courant << " (" << scene::to_string(scene_.time.criterion)
-    << ", " << scene::to_string(scene_.time.integrator);
-  if (dim > 1) s << ", " << to_string(scene_.flux);
-  s << ") of the layout of cell " << limit.cell << " (positions "
-    << stability::describe_positions(limit.layout) << ", masses "
-    << stability::describe(limit.layout.masses);
-  if (limit.fill < 1 - 1e-9) s << ", fill " << limit.fill;
-  s << "): the run may be unstable";
-  warnings_.push_back(s.str());
-}
-
-// With the paper's pseudo-stiffness, a cell whose particles carry more than rho times its volume
-// (moving particles piling up) breaks the scheme's consistency: the volume term scales with the
-// cell's mass, the face fluxes do not, so a constant state changes at a rate (fill - 1) F / (rho h)
-// there, however small dt is. No time step restores monotonicity then; the run says so once,
-// naming where it began (the consistent pseudo-stiffness, the default, removes the cause).
-template <class Physics>
-void Simulation<Physics>::warn_if_overfull_cell(long step, double t) {
-  // The rebuild found the first over-full cell (no pass over the cells here); over ranks, the
-  // first of theirs by the grid's numbering (every rank says the same).
-  const auto& disc = stepper_->discretisation();
-  int c = disc.first_overfull_cell();
-  if (halo_ && c >= 0) {
-    // A window's numbering wraps across periodic sides: the rank's first owned over-full cell by
-    // the grid's numbering (a pass over the window, only once it has one).
-    c = -1;
-    for (int k = 0; k < disc.num_cells(); ++k)
-      if (halo_->owns_cell(k) && disc.occupied(k) && disc.overfull(k) &&
-          (c < 0 || full_cell(k) < full_cell(c)))
-        c = k;
-  }
-  double cell = c >= 0 ? full_cell(c) : -1, fill = c >= 0 ? disc.fill(c) : 0;
-  if (halo_) {
-    constexpr double none = std::numeric_limits<double>::infinity();
-    const double mine = c >= 0 ? cell : none, first = halo_->comm().min(mine);
-    fill = halo_->comm().min(mine == first ? fill : none);
-    cell = first == none ? -1 : first;
-  }
-  if (cell < 0) return;
-  std::ostringstream s;
-  s << format_step(step, t) << ": cell " << static_cast<long>(cell) << " holds "
-    << std::setprecision(6) << fill
-    << " times a full cell's mass; the operators do not preserve constant states in an "
-       "over-full cell, so new extrema can appear whatever the time step (\"formulation\": "
-       "\"consistent\" restores them)";
-  warnings_.push_back(s.str());
-  overfull_warned_ = true;
-}
-
-// Power of the boundary loads on the current particle state.
-template <class Physics>
-double Simulation<Physics>::load_power() const {
-  const auto& p = problem_.particles;
-  if (!halo_) return stepper_->op().boundary_power(p.state, p.mass, time_);
-  double power = stepper_->op().boundary_power(p.state, p.mass, time_,
-                                               [&](int c) { return halo_->owns_cell(c); });
-  halo_->comm().sum({&power, 1});
-  return power;
-}
-
-// The step for the particles' current layouts and states (check_scene's factor or check applied
-// to an automatic one). A state past the hyperbolic range stops the run, naming its particle.
-template <class Physics>
-void Simulation<Physics>::choose_time_step(long step, double t) {
-  dt_ = time_control_->time_step(problem_.grid, stepper_->discretisation(), problem_.particles,
-                                 problem_.materials);
-  if constexpr (state_dependent_speed) {
-    check_hyperbolic(step, t);
-    max_speed_ = time_control_->fastest_speed();
-    if (halo_) max_speed_ = -halo_->comm().min(-max_speed_);
-  }
-  if (halo_) dt_ = halo_->comm().min(dt_);  // every cell is some rank's: exact
-  if (!time_control_->automatic()) return;
-  const long every = scene_.time.check_scene_every;
-  if (every > 0 && step % every == 0)
-    check_scene(step, t);
-  else
-    dt_ *= scene_guard_factor_;
-}
-
-// After time_step returned NaN on some rank: the owned particle whose state has no real wave
-// speed (its acoustic tensor is not positive definite), with its state.
-template <class Physics>
-void Simulation<Physics>::check_hyperbolic(long step, double t) const {
-  if constexpr (state_dependent_speed) {
-    const bool here = std::isnan(dt_);
-    if (!(halo_ ? halo_->comm().min(here ? 0.0 : 1.0) == 0.0 : here)) return;
-    const auto& p = problem_.particles;
-    for (int i = 0; i < owned_particles(); ++i) {
-      const auto& m = problem_.materials[p.material[i]];
-      if (Physics::state_wave_speed(p.state.col(i), m) >= 0) continue;
-      const typename Physics::State s = Physics::physical(p.state.col(i), m);
-      Eigen::Matrix<double, dim, 1> xi;
-      std::ostringstream o;
-      o << format_step(step, t) << ": particle " << p.id[i]
-        << " has left its material's hyperbolic range (its acoustic tensor is not positive "
-           "definite: no real wave speed) at X = "
-        << p.position.col(i).transpose() << " (cell " << full_grid().locate(p.position.col(i), xi)
-        << ") with ";
-      for (int k = 0; k < ncomp; ++k)
-        o << (k ? ", " : "") << Physics::state_names[k] << " = " << std::setprecision(9) << s[k];
-      o << "; the equations are no longer well posed there (a compression too strong for the "
-           "law, e.g. Saint Venant-Kirchhoff compressed below F = 1/sqrt(3) in uniaxial strain, "
-           "sooner in plane strain, where oblique waves fail first)";
-      throw std::runtime_error(o.str());
-    }
-    throw RankStopped("a particle left its hyperbolic range (another rank names it)");
-  }
-}
-
-template <class Physics>
 void Simulation<Physics>::step(double dt) {
-  auto& particles = problem_.particles;
   step_speed_ = max_speed_;
   bool finite = false;  // known finite (DGMPM checks as it writes the particles)
   try {
-    if (mpm_) {
-      mpm_->step(particles, time_, dt, scene_.particles_move);
-    } else {
-      finite = stepper_->step(particles, problem_.materials, time_, dt);
-      if (scene_.particles_move) {
-        particles.position += dt * particles.state.template bottomRows<dim>();
-        if (halo_) halo_->migrate(particles);
-        stepper_->rebuild(particles, problem_.materials);
-        if (!overfull_warned_ && scene_.formulation == Formulation::paper)
-          warn_if_overfull_cell(steps_ + 1, time_ + dt);
-      } else if (halo_) {
-        halo_->exchange_states(particles);
-      }
-    }
+    finite = method_->step(steps_ + 1, time_, dt);
   } catch (const ParticleOutsideGrid& e) {
     throw std::runtime_error(format_step(steps_ + 1, time_ + dt) + ": " + e.what() + " " +
                              grid_extent(full_grid()));
@@ -399,38 +130,16 @@ void Simulation<Physics>::step(double dt) {
   ++steps_;
   // With finite states, positions moved by dt v are finite or outside the grid (thrown above).
   if (!finite) check_finite();
-  // A new step where the layouts (moving particles, automatic step) or the speeds (finite strain)
-  // have changed.
-  if (mpm_) {
-    if constexpr (state_dependent_speed) {  // C h / c at the particles' new speeds
-      max_speed_ = problem_.max_wave_speed();
-      dt_ = scene_.time.courant * cell_size() / max_speed_;
-      check_hyperbolic(steps_, time_);
-    }
-  } else if (scene_.particles_move ? time_control_->automatic() : state_dependent_speed) {
-    choose_time_step(steps_, time_);
-  }
-  if (loaded_) {
-    const double power = load_power();
-    work_ += 0.5 * dt * (power_ + power);
-    power_ = power;
-  }
-  // Energy is a pass over the particles: every kGrowthCheckInterval steps is enough to stop an
-  // exponential growth long before it overflows.
-  constexpr int kGrowthCheckInterval = 16;
-  if (scene_.time.blow_up_check && ++since_growth_check_ >= kGrowthCheckInterval) check_growth();
+  method_->after_step(steps_, time_, dt);
+  if (blow_up_.due()) check_growth();
 }
 
-// Unbounded growth: the energy cannot exceed the initial energy plus the work the boundaries did
-// (DGMPM dissipates; MPM's balance is looser, hence a wide factor). Names the particle holding
-// the most energy.
+// Unbounded growth (BlowUpMonitor): names the particle holding the most energy.
 template <class Physics>
 void Simulation<Physics>::check_growth() {
-  since_growth_check_ = 0;
-  most_work_ = std::max(most_work_, mpm_ ? mpm_->load_work() : work_);
-  const double reference = initial_energy_ + most_work_;
+  const double reference = blow_up_.reference(method_->load_work());
   const double e = energy();
-  if (!(e > scene_.time.blow_up_factor * reference && e > 0.0)) return;
+  if (!blow_up_.exceeds(e, reference)) return;
   const auto& p = problem_.particles;
   int worst = 0;
   double most = -1;
@@ -446,9 +155,9 @@ void Simulation<Physics>::check_growth() {
   s << format_step(steps_, time_) << ": the run is unstable: energy " << std::setprecision(6) << e
     << ' ' << energy_unit(dim) << " is " << e / reference
     << " times the initial energy plus the work of the loads (" << reference
-    << " J; time.blow_up_factor " << scene_.time.blow_up_factor << "); largest on particle "
-    << p.id[worst] << " (x = " << p.position.col(worst).transpose() << ", cell " << cell << ", "
-    << most << ' ' << energy_unit(dim) << "). Lower the Courant number (or raise "
+    << " J; time.blow_up_factor " << blow_up_.factor() << "); largest on particle " << p.id[worst]
+    << " (x = " << p.position.col(worst).transpose() << ", cell " << cell << ", " << most << ' '
+    << energy_unit(dim) << "). Lower the Courant number (or raise "
     << "time.blow_up_factor, or set time.blow_up_check false to run on)";
   throw std::runtime_error(s.str());
 }
@@ -473,16 +182,17 @@ void Simulation<Physics>::check_finite() const {
 template <class Physics>
 double Simulation<Physics>::step_towards(double target) {
   const double remaining = target - time_;
-  if (remaining <= 1e-12 * dt_) {
+  const double full = dt();
+  if (remaining <= 1e-12 * full) {
     time_ = std::max(time_, target);
     return 0.0;
   }
   // The last step absorbs round-off rather than leaving a sliver step behind.
-  const bool last = remaining <= dt_ * (1 + 1e-9);
-  const double dt = last ? remaining : dt_;
-  step(dt);
+  const bool last = remaining <= full * (1 + 1e-9);
+  const double length = last ? remaining : full;
+  step(length);
   if (last) time_ = target;
-  return dt;
+  return length;
 }
 
 template <class Physics>
@@ -824,7 +534,8 @@ void Simulation<Physics>::write_history(std::ostream* out, double dt, const Ener
   if (!out) return;
   *out << steps_ << ',' << time_ << ',' << dt << ',' << e.kinetic << ',' << e.elastic << ',';
   if (dissipative) *out << e.stored << ',' << e.dissipated << ',';
-  *out << e.total() << ',' << work_;
+  // MPM reports no boundary work (SteppingMethod::boundary_work): its column holds 0.
+  *out << e.total() << ',' << method_->boundary_work().value_or(0.0);
   if (state_dependent_speed) *out << ',' << (steps_ > 0 ? step_speed_ : max_speed_);
   *out << '\n';
 }
@@ -832,11 +543,11 @@ void Simulation<Physics>::write_history(std::ostream* out, double dt, const Ener
 // The step count up front: a run that would need more than time.max_steps is refused.
 template <class Physics>
 double Simulation<Physics>::expected_steps() const {
-  const double expected = std::ceil((scene_.time.end - time_) / dt_) + steps_;
+  const double expected = std::ceil((scene_.time.end - time_) / dt()) + steps_;
   if (expected > static_cast<double>(scene_.time.max_steps)) {
     std::ostringstream s;
     s << scene_.source << ": time.end: value " << scene_.time.end << " needs about " << expected
-      << " steps of " << dt_ << " s, more than time.max_steps (" << scene_.time.max_steps
+      << " steps of " << dt() << " s, more than time.max_steps (" << scene_.time.max_steps
       << "); allowed: an end time within time.max_steps, or a larger time.max_steps";
     throw scene::SceneError(s.str());
   }
@@ -876,7 +587,7 @@ template <class Physics>
 bool Simulation<Physics>::output_due(const RunRecord& record) const {
   const auto& times = scene_.output.times;
   return record.writes && progress_.outputs < times.size() &&
-         time_ >= times[progress_.outputs] - (scene_.output.land ? 0.0 : 0.5 * dt_);
+         time_ >= times[progress_.outputs] - (scene_.output.land ? 0.0 : 0.5 * dt());
 }
 
 template <class Physics>
@@ -976,8 +687,8 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   last_summary_.reset();
   const bool resumed = !restored_from_.empty();
   if (!resumed) {
-    progress_.dt_min = progress_.dt_max = dt_;
-    progress_.courant_min = progress_.courant_max = dt_ * courant_per_dt();
+    progress_.dt_min = progress_.dt_max = dt();
+    progress_.courant_min = progress_.courant_max = dt() * courant_per_dt();
   }
   RunRecord record{options, options.output_directory.value_or(scene_.output.directory)};
   record.writes = !record.directory.empty();
@@ -992,7 +703,7 @@ RunSummary Simulation<Physics>::run(const RunOptions& options) {
   const bool terminal = progress && ::isatty(STDERR_FILENO);
   if (terminal)
     std::fprintf(stderr, "%s: about %.0f steps of %.6g s\n", scene_.source.c_str(),
-                 expected - steps_, dt_);
+                 expected - steps_, dt());
   const auto seconds = [&] { return std::chrono::duration<double>(clock::now() - start).count(); };
   int stopped = 0;  // the signal that interrupted the run
   try {
@@ -1048,7 +759,7 @@ int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
     double target = t_end;
     if (scene_.output.land && record.writes && progress_.outputs < output_times.size())
       target = std::min(target, output_times[progress_.outputs]);
-    const double controlled = dt_;
+    const double controlled = dt();
     const double dt = step_towards(target);
     if (dt == 0.0) {
       if (target >= t_end) return 0;
@@ -1085,10 +796,9 @@ int Simulation<Physics>::time_loop(RunRecord& record, bool progress) {
         std::string balance;  // E - E0 - W over E0 + W, when the energy is computed
         if (record.writes && !terminal) {
           char text[64];
-          const double work = mpm_ ? mpm_->load_work() : work_;
+          const double work = method_->load_work(), e0 = blow_up_.initial_energy();
           std::snprintf(text, sizeof text, "  (E - E0 - W) / (E0 + W) %+.1e",
-                        (energy.total() - initial_energy_ - work) /
-                            std::max(initial_energy_ + work, 1e-300));
+                        (energy.total() - e0 - work) / std::max(e0 + work, 1e-300));
           balance = text;
         }
         std::fprintf(stderr,
@@ -1122,7 +832,7 @@ void Simulation<Physics>::record_failure(RunRecord& record, double stepping_seco
   if (!halo_) {
     s = summarise();
   } else {
-    s.run = {{"version", DGMPM_VERSION},
+    s.run = {{"version", version()},
              {"scene", scene_.source},
              {"dimension", dim},
              {"ranks", halo_->comm().size()}};
@@ -1149,7 +859,7 @@ void Simulation<Physics>::record_failure(RunRecord& record, double stepping_seco
 template <class Physics>
 RunSummary Simulation<Physics>::summarise() const {
   RunSummary summary;
-  summary.run = {{"version", DGMPM_VERSION},
+  summary.run = {{"version", version()},
                  {"scene", scene_.source},
                  {"method", scene::to_string(scene_.method)},
                  {"integrator", scene::to_string(scene_.time.integrator)},
@@ -1166,10 +876,8 @@ RunSummary Simulation<Physics>::summarise() const {
       summary.run["imbalance"] = largest * counts.size() / total_particles_;
     }
   }
-  if (dim > 1 && scene_.method == scene::Method::dgmpm)
-    summary.run["flux"] = to_string(scene_.flux);
   if (!restored_from_.empty()) summary.run["restarted_from"] = restored_from_;
-  summary.energy_initial = initial_energy_;
+  summary.energy_initial = blow_up_.initial_energy();
   summary.dt_min = progress_.dt_min;
   summary.dt_max = progress_.dt_max;
   summary.courant_min = progress_.courant_min;
@@ -1177,9 +885,9 @@ RunSummary Simulation<Physics>::summarise() const {
   summary.steps = steps_;
   summary.final_time = time_;
   summary.warnings = warnings_;
-  // MPM's load power is not tracked: null in the summary rather than a zero that means nothing.
-  summary.boundary_work = mpm_ ? std::numeric_limits<double>::quiet_NaN() : work_;
-  if (time_control_) summary.layouts_analysed = time_control_->layouts_analysed();
+  // Where the method reports none (MPM): null in the summary rather than a zero that means nothing.
+  summary.boundary_work =
+      method_->boundary_work().value_or(std::numeric_limits<double>::quiet_NaN());
   const Energy final_energy = energy_parts();
   summary.energy_final = final_energy.total();
   if (dissipative) {
@@ -1188,10 +896,7 @@ RunSummary Simulation<Physics>::summarise() const {
   }
   if (problem_.exact) add_errors(summary);
   summary.setup_seconds = setup_seconds_;
-  if (time_control_) {
-    summary.time_step_seconds = time_control_->selection_seconds();
-    summary.layout_analysis_seconds = time_control_->analysis_seconds();
-  }
+  method_->summarise(summary);
   return summary;
 }
 
@@ -1275,7 +980,7 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
   checkpoint::File file;
   file.header = {
       {"format", checkpoint::kFormat},
-      {"version", DGMPM_VERSION},
+      {"version", version()},
       {"scene_source", std::filesystem::absolute(scene_.source).lexically_normal().string()},
       {"scene", checkpoint::scene_identity(scene_)},
       {"dimension", dim},
@@ -1283,17 +988,7 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
       {"particles", p.size()},
       {"step", steps_},
       {"time", bits(time_)},
-      {"dt", bits(dt_)},
       {"max_speed", bits(max_speed_)},
-      {"work", bits(work_)},
-      {"power", bits(power_)},
-      {"most_work", bits(most_work_)},
-      {"initial_energy", bits(initial_energy_)},
-      {"mpm_load_work", bits(mpm_ ? mpm_->load_work() : 0.0)},
-      {"since_growth_check", since_growth_check_},
-      {"overfull_warned", overfull_warned_},
-      {"scene_guard_factor", bits(scene_guard_factor_)},
-      {"scene_guard_warned", scene_guard_warned_},
       {"warnings", warnings_},
       {"progress",
        {{"outputs", d.outputs},
@@ -1308,6 +1003,8 @@ void Simulation<Physics>::write_checkpoint(const std::string& path) const {
         {"history_bytes", d.history_bytes},
         {"history_hash", d.history_hash},
         {"checkpoint_step", d.checkpoint_step}}}};
+  method_->save(file.header);
+  blow_up_.save(file.header);
   if (halo_) {
     file.header["ranks"] = halo_->comm().size();
     file.header["rank"] = halo_->comm().rank();
@@ -1383,22 +1080,13 @@ void Simulation<Physics>::restore(const std::string& path) {
     // All read: the state changes only now.
     steps_ = h.at("step").get<long>();
     time_ = u(h, "time");
-    dt_ = u(h, "dt");
     max_speed_ = u(h, "max_speed");
-    work_ = u(h, "work");
-    power_ = u(h, "power");
-    most_work_ = u(h, "most_work");
-    initial_energy_ = u(h, "initial_energy");
-    since_growth_check_ = h.at("since_growth_check").get<int>();
-    overfull_warned_ = h.at("overfull_warned").get<bool>();
-    scene_guard_factor_ = u(h, "scene_guard_factor");
-    scene_guard_warned_ = h.at("scene_guard_warned").get<bool>();
+    blow_up_.restore(h);
     warnings_ = h.at("warnings").get<std::vector<std::string>>();
     p = std::move(restored);
     if (halo_) halo_->restore(p, global);  // the ghosts, from their owners
     progress_ = std::move(d);
-    if (mpm_) mpm_->set_load_work(u(h, "mpm_load_work"));
-    if (stepper_) stepper_->rebuild(p, problem_.materials);
+    method_->restore(h);
   } catch (const nlohmann::json::exception& e) {
     throw scene::SceneError(path +
                             ": cannot restart from this checkpoint: its header is "
