@@ -1,4 +1,4 @@
-#include "solver/problem.hpp"
+#include "solver/problem_impl.hpp"
 
 #include <dgmpm/exact/elastic_bar.hpp>
 
@@ -11,87 +11,6 @@
 #include <sstream>
 
 namespace dgmpm {
-
-namespace {
-
-ElasticBar::Material material_of(const scene::MaterialSpec& m, ElasticBar*) {
-  return {m.young, m.density};
-}
-ElastoPlasticBar::Material material_of(const scene::MaterialSpec& m, ElastoPlasticBar*) {
-  return {m.young, m.density, m.flow};  // linear_elastic: an infinite yield stress
-}
-PlaneStrainPlastic::Material material_of(const scene::MaterialSpec& m, PlaneStrainPlastic*) {
-  return {m.young, m.poisson, m.density, m.flow};
-}
-UniaxialStrainPlastic::Material material_of(const scene::MaterialSpec& m, UniaxialStrainPlastic*) {
-  return {m.young, m.poisson, m.density, m.flow};
-}
-PlaneStrain::Material material_of(const scene::MaterialSpec& m, PlaneStrain*) {
-  return {m.young, m.poisson, m.density};
-}
-template <class Law>
-typename FiniteStrainBar<Law>::Material material_of(const scene::MaterialSpec& m,
-                                                    FiniteStrainBar<Law>*) {
-  return {m.young, m.poisson, m.density};
-}
-template <class Law>
-typename FiniteStrainPlane<Law>::Material material_of(const scene::MaterialSpec& m,
-                                                      FiniteStrainPlane<Law>*) {
-  return {m.young, m.poisson, m.density};
-}
-
-// The initial specific state of a body's particles (the tag picks the physics' own, if any).
-ElasticBar::State initial_state(const scene::BodySpec& b, const ElasticBar::Material& m,
-                                const void*) {
-  return ElasticBar::specific(b.stress[0], b.velocity[0], m);
-}
-PlaneStrain::State initial_state(const scene::BodySpec& b, const PlaneStrain::Material& m,
-                                 const void*) {
-  return PlaneStrain::specific(Eigen::Vector3d(b.stress[0], b.stress[1], b.stress[2]),
-                               PlaneStrain::Vec(b.velocity[0], b.velocity[1]), m);
-}
-
-// Unstrained (F = 1) unless the body gives its deformation gradient.
-template <class Law>
-typename FiniteStrainBar<Law>::State initial_state(const scene::BodySpec& b,
-                                                   const typename FiniteStrainBar<Law>::Material& m,
-                                                   FiniteStrainBar<Law>*) {
-  const double f = b.deformation_gradient.empty() ? 1.0 : b.deformation_gradient[0];
-  return FiniteStrainBar<Law>::specific(f, b.velocity[0], m);
-}
-// deformation_gradient: [F_xx, F_xy, F_yx, F_yy].
-template <class Law>
-typename FiniteStrainPlane<Law>::State
-initial_state(const scene::BodySpec& b, const typename FiniteStrainPlane<Law>::Material& m,
-              FiniteStrainPlane<Law>*) {
-  Eigen::Matrix2d f = Eigen::Matrix2d::Identity();
-  if (!b.deformation_gradient.empty())
-    f << b.deformation_gradient[0], b.deformation_gradient[1], b.deformation_gradient[2],
-        b.deformation_gradient[3];
-  return FiniteStrainPlane<Law>::specific(f, Eigen::Vector2d(b.velocity[0], b.velocity[1]), m);
-}
-
-template <int Dim>
-BoundarySide<Dim> side_of(const std::vector<scene::BoundarySpec>& specs, int axis) {
-  BoundarySide<Dim> side;
-  for (const auto& spec : specs) {
-    BoundarySegment<Dim> segment;
-    segment.condition.kind = spec.kind;
-    segment.condition.value.times = spec.times;
-    for (std::size_t k = 0; k < spec.times.size(); ++k)
-      segment.condition.value.values.push_back(
-          Eigen::Map<const Eigen::Matrix<double, Dim, 1>>(spec.values.data() + k * Dim));
-    if constexpr (Dim == 2) {
-      if (spec.has_range) {
-        const int t = 1 - axis;  // the side's tangential axis
-        segment.lo[t] = spec.range_lo;
-        segment.hi[t] = spec.range_hi;
-      }
-    }
-    side.segments.push_back(segment);
-  }
-  return side;
-}
 
 void set_exact(const scene::Scene& scene, Problem<ElasticBar>& problem) {
   if (!scene.exact) return;
@@ -146,11 +65,6 @@ void set_exact(const scene::Scene& scene, Problem<UniaxialStrainPlastic>&) {
                             "is in uniaxial stress and the scene in uniaxial strain");
 }
 
-template <class Law>
-void set_exact(const scene::Scene&, Problem<FiniteStrainBar<Law>>&) {}  // refused by the parser
-template <class Law>
-void set_exact(const scene::Scene&, Problem<FiniteStrainPlane<Law>>&) {}  // refused by the parser
-
 void set_exact(const scene::Scene& scene, Problem<PlaneStrainPlastic>&) {
   if (scene.plane_wave || scene.exact)
     throw scene::SceneError(scene.source + ": " + (scene.plane_wave ? "plane_wave" : "exact") +
@@ -161,8 +75,9 @@ void set_exact(const scene::Scene& scene, Problem<PlaneStrainPlastic>&) {
 // The plane wave of the scene, physical state at x and t: v = A sin(k . x - c |k| t) along the
 // polarisation; a P wave carries sigma_nn = -Z_p v_n and sigma_tt = lambda / (lambda + 2 mu)
 // sigma_nn, an S wave sigma_nt = -Z_s v_t (n = k / |k|).
-PlaneStrain::State plane_wave(const scene::Scene::PlaneWave& w, const Eigen::Vector2d& k,
-                              const PlaneStrain::Material& m, const Eigen::Vector2d& x, double t) {
+static PlaneStrain::State plane_wave(const scene::Scene::PlaneWave& w, const Eigen::Vector2d& k,
+                                     const PlaneStrain::Material& m, const Eigen::Vector2d& x,
+                                     double t) {
   const Eigen::Vector2d n = k.normalized(), tangent(-n[1], n[0]);
   const double c = w.shear ? m.s_speed() : m.p_speed();
   const double v = w.amplitude * std::sin(k.dot(x) - c * k.norm() * t);
@@ -219,36 +134,6 @@ void set_exact(const scene::Scene& scene, Problem<PlaneStrain>& problem) {
   };
 }
 
-template <class Physics>
-void add_body_particles(const scene::Scene& scene, std::size_t body_index,
-                        const Grid<Physics::dim>& grid, const typename Physics::Material& mat,
-                        ParticlesOf<Physics>& particles) {
-  constexpr int dim = Physics::dim;
-  const scene::BodySpec& body = scene.bodies[body_index];
-  const double density = scene.materials[body.material].density;
-  // Weights relative to the largest: 1e308 each would overflow their sum.
-  std::vector<double> w = body.masses_in_cell;
-  const double largest = *std::max_element(w.begin(), w.end());
-  for (double& x : w) x /= largest;
-  const double wsum = std::accumulate(w.begin(), w.end(), 0.0);
-  const auto state = initial_state(body, mat, static_cast<Physics*>(nullptr));
-  const std::vector<scene::Seed> seeds = scene::body_seeds(scene, body_index);
-  const int first = particles.size(), n = first + static_cast<int>(seeds.size());
-  particles.resize(n, true);
-  for (int p = first; p < n; ++p) {
-    const scene::Seed& seed = seeds[p - first];
-    for (int a = 0; a < dim; ++a) particles.position(a, p) = seed.x[a];
-    particles.volume[p] = grid.cell_volume() * w[seed.local] / wsum;
-    particles.mass[p] = density * particles.volume[p];
-    particles.state.col(p) = state;
-    particles.internal.col(p).setZero();  // no plastic strain or hardening yet
-    particles.material[p] = body.material;
-    particles.id[p] = p;
-  }
-}
-
-}  // namespace
-
 // Refuses, before anything is allocated, a scene whose particles and cells would not fit in the
 // memory available: bytes per particle and per cell, rounded up from what `dgmpm bench` measures
 // (heap bytes per particle with their share of the nodal arrays: about 155 in 1D, 380-800 in 2D
@@ -281,32 +166,6 @@ void check_memory(const scene::Scene& scene) {
     s << "; allowed: a scene that fits in memory (at most 2^31 - 1 particles)";
     throw scene::SceneError(s.str());
   }
-}
-
-template <class Physics>
-Problem<Physics> make_problem(const scene::Scene& scene) {
-  constexpr int dim = Physics::dim;
-  if (scene.dimension != dim)
-    throw scene::SceneError(scene.source + ": dimension: value " + std::to_string(scene.dimension) +
-                            " does not fit a " + std::to_string(dim) + "D problem");
-  check_memory(scene);
-  Problem<Physics> p;
-  for (int a = 0; a < dim; ++a) {
-    p.grid.origin[a] = scene.grid.origin[a];
-    p.grid.cell_size[a] = scene.grid.cell_size[a];
-    p.grid.cells[a] = scene.grid.cells[a];
-    p.grid.periodic[a] = scene.grid.periodic[a];
-    for (int side = 0; side < 2; ++side)
-      p.boundaries[a][side] = side_of<dim>(scene.boundaries[a][side], a);
-  }
-  for (const auto& m : scene.materials)
-    p.materials.push_back(material_of(m, static_cast<Physics*>(nullptr)));
-  p.particles.resize(0);
-  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
-    add_body_particles<Physics>(scene, b, p.grid, p.materials[scene.bodies[b].material],
-                                p.particles);
-  set_exact(scene, p);
-  return p;
 }
 
 template Problem<ElasticBar> make_problem<ElasticBar>(const scene::Scene&);

@@ -21,6 +21,7 @@
 #include <functional>
 #include <string>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace dgmpm {
@@ -69,25 +70,25 @@ Problem<Physics> make_problem(const scene::Scene& scene);
 // ElastoPlasticBar when a material yields, UniaxialStrainPlastic for "strain":
 // "uniaxial_strain", FiniteStrainBar with the scene's hyperelastic law; 2D: PlaneStrain, or
 // PlaneStrainPlastic when a material yields, FiniteStrainPlane with the scene's hyperelastic
-// law). The parser has refused scenes that mix finite and
-// small strain, or two laws.
+// law). The first material's model stands for all: the parser has refused scenes that mix
+// finite and small strain, or two laws.
 template <class F>
 decltype(auto) with_physics(const scene::Scene& scene, F&& f) {
   bool plastic = false;
   for (const auto& m : scene.materials) plastic = plastic || m.plastic();
-  const std::string& model = scene.materials.front().model;
+  const scene::MaterialModel& model = scene.materials.front().model;
+  const bool svk = std::holds_alternative<scene::Hyperelastic<SaintVenantKirchhoff>>(model);
+  const bool nh = std::holds_alternative<scene::Hyperelastic<NeoHookean>>(model);
   switch (scene.dimension) {
     case 1:
-      if (model == "saint_venant_kirchhoff")
-        return f(std::type_identity<FiniteStrainBar<SaintVenantKirchhoff>>{});
-      if (model == "neo_hookean") return f(std::type_identity<FiniteStrainBar<NeoHookean>>{});
+      if (svk) return f(std::type_identity<FiniteStrainBar<SaintVenantKirchhoff>>{});
+      if (nh) return f(std::type_identity<FiniteStrainBar<NeoHookean>>{});
       if (scene.uniaxial_strain) return f(std::type_identity<UniaxialStrainPlastic>{});
       if (plastic) return f(std::type_identity<ElastoPlasticBar>{});
       return f(std::type_identity<ElasticBar>{});
     case 2:
-      if (model == "saint_venant_kirchhoff")
-        return f(std::type_identity<FiniteStrainPlane<SaintVenantKirchhoff>>{});
-      if (model == "neo_hookean") return f(std::type_identity<FiniteStrainPlane<NeoHookean>>{});
+      if (svk) return f(std::type_identity<FiniteStrainPlane<SaintVenantKirchhoff>>{});
+      if (nh) return f(std::type_identity<FiniteStrainPlane<NeoHookean>>{});
       if (plastic) return f(std::type_identity<PlaneStrainPlastic>{});
       return f(std::type_identity<PlaneStrain>{});
   }

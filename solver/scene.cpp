@@ -48,6 +48,15 @@ const char* to_string(MpmUpdate u) {
   return "?";
 }
 
+// The models' names, in the order of MaterialModel's alternatives.
+constexpr std::array<const char*, std::variant_size_v<MaterialModel>> model_names{
+    "linear_elastic", "elastoplastic", "elasto_viscoplastic", "saint_venant_kirchhoff",
+    "neo_hookean"};
+
+const char* MaterialSpec::model_name() const {
+  return model_names[model.index()];
+}
+
 namespace {
 
 using json = nlohmann::json;
@@ -319,15 +328,12 @@ class Parser {
              "cell sizes whose time step c dt / h = C is a normal double (above 2.2e-308 s)");
   }
 
-  // Finite-strain materials (1D DGMPM so far): one hyperelastic law for the whole scene, bodies
-  // given a deformation gradient rather than a stress, states inside the law's hyperbolic range.
+  // Finite-strain materials: one hyperelastic law for the whole scene, bodies given a deformation
+  // gradient rather than a stress, states inside the law's hyperbolic range.
   void check_finite_strain(Scene& s, const json& doc) const {
     const MaterialSpec* finite = nullptr;
     const MaterialSpec* small = nullptr;
     for (const MaterialSpec& m : s.materials) (m.finite_strain() ? finite : small) = &m;
-    const auto material_path = [](const MaterialSpec& m) {
-      return key_path(key_path("materials", m.name), "model");
-    };
     if (!finite) {
       for (std::size_t i = 0; i < s.bodies.size(); ++i)
         if (!s.bodies[i].deformation_gradient.empty())
@@ -340,16 +346,16 @@ class Parser {
     }
     const json& model = doc["materials"][finite->name]["model"];
     if (small)
-      refuse(material_path(*finite), model,
+      refuse(model_path(*finite), model,
              "mixes finite strain with the small-strain material \"" + small->name +
-                 "\" (model \"" + small->model +
+                 "\" (model \"" + small->model_name() +
                  "\"): the two measure strain and stress differently, and no edge state joins them",
              "every material of a scene finite-strain, or none");
     for (const MaterialSpec& m : s.materials)
-      if (m.model != finite->model)
-        refuse(material_path(m), doc["materials"][m.name]["model"],
-               "is a second hyperelastic law beside \"" + finite->model + "\" of material \"" +
-                   finite->name + "\"",
+      if (m.model.index() != finite->model.index())
+        refuse(model_path(m), doc["materials"][m.name]["model"],
+               "is a second hyperelastic law beside \"" + std::string(finite->model_name()) +
+                   "\" of material \"" + finite->name + "\"",
                "one law per scene (materials may differ in young, poisson and density)");
     const std::string fs = "with finite-strain material \"" + finite->name + "\"";
     if (s.particles_move)
@@ -372,39 +378,53 @@ class Parser {
                  "finite-strain step is not one",
              "0 (the automatic step reads the particles' speeds every step)");
     if (s.time.courant_auto && !doc["time"].contains("safety")) s.time.safety = kFiniteStrainSafety;
-    // The hyperbolic range of each material, as its physics states it under uniaxial strain: F
-    // above lowest_f, nominal stresses above lowest_p (a normal load on an unstrained body drives
-    // a uniaxial-strain wave, in 2D as in 1D; in 2D oblique waves may fail first).
-    const auto physics = [&](const MaterialSpec& m, auto&& f) {
-      const auto with = [&](auto p) {
-        using P = decltype(p);
-        return f(p, typename P::Material(m.young, m.poisson, m.density));
-      };
-      const bool svk = m.model == "saint_venant_kirchhoff";
-      if (s.dimension == 1)
-        return svk ? with(FiniteStrainBar<SaintVenantKirchhoff>{})
-                   : with(FiniteStrainBar<NeoHookean>{});
-      return svk ? with(FiniteStrainPlane<SaintVenantKirchhoff>{})
-                 : with(FiniteStrainPlane<NeoHookean>{});
+    check_initial_gradients(s, doc, fs);
+    check_normal_tractions(s, doc);
+  }
+
+  static std::string model_path(const MaterialSpec& m) {
+    return key_path(key_path("materials", m.name), "model");
+  }
+
+  // f(physics, material) with the finite-strain physics of a hyperelastic material in the
+  // scene's dimension: the hyperbolic range of each material is its physics' to state.
+  template <class F>
+  static auto with_hyperelastic_physics(const MaterialSpec& m, int dimension, F&& f) {
+    const auto with = [&](auto p) {
+      using P = decltype(p);
+      return f(p, typename P::Material(m.young, m.poisson, m.density));
     };
-    const auto lowest_f = [&](const MaterialSpec& m) {
-      return physics(m, [](auto p, const auto& material) { return p.lowest_f(material); });
-    };
-    const auto lowest_p = [&](const MaterialSpec& m) {
-      return physics(m, [](auto p, const auto& material) { return p.lowest_stress(material); });
-    };
-    // 2D: an initial F of positive determinant whose acoustic tensor is positive definite in
-    // every in-plane direction (the plane physics' own speed is a number).
-    const auto hyperbolic_2d = [&](const MaterialSpec& m, const std::vector<double>& f) {
-      const Eigen::Matrix2d g{{f[0], f[1]}, {f[2], f[3]}};
-      return g.determinant() > 0 && physics(m, [&](auto p, const auto& material) {
-               if constexpr (decltype(p)::dim == 2)
-                 return p.state_wave_speed(p.specific(g, Eigen::Vector2d::Zero(), material),
-                                           material) >= 0;
-               else
-                 return false;
-             });
-    };
+    if (std::holds_alternative<Hyperelastic<SaintVenantKirchhoff>>(m.model))
+      return dimension == 1 ? with(FiniteStrainBar<SaintVenantKirchhoff>{})
+                            : with(FiniteStrainPlane<SaintVenantKirchhoff>{});
+    return dimension == 1 ? with(FiniteStrainBar<NeoHookean>{})
+                          : with(FiniteStrainPlane<NeoHookean>{});
+  }
+  // The least uniaxial F_xx and normal nominal stress in the range (a normal load on an
+  // unstrained body drives a uniaxial-strain wave, in 2D as in 1D; in 2D oblique waves may fail
+  // first).
+  static double lowest_f(const MaterialSpec& m, int dimension) {
+    return with_hyperelastic_physics(
+        m, dimension, [](auto p, const auto& material) { return p.lowest_f(material); });
+  }
+  static double lowest_stress(const MaterialSpec& m, int dimension) {
+    return with_hyperelastic_physics(
+        m, dimension, [](auto p, const auto& material) { return p.lowest_stress(material); });
+  }
+  // 2D: an initial F of positive determinant whose acoustic tensor is positive definite in every
+  // in-plane direction (the plane physics' own speed is a number).
+  static bool hyperbolic_2d(const MaterialSpec& m, const std::vector<double>& f) {
+    const Eigen::Matrix2d g{{f[0], f[1]}, {f[2], f[3]}};
+    return g.determinant() > 0 && with_hyperelastic_physics(m, 2, [&](auto p, const auto& mat) {
+             if constexpr (decltype(p)::dim == 2)
+               return p.state_wave_speed(p.specific(g, Eigen::Vector2d::Zero(), mat), mat) >= 0;
+             else
+               return false;
+           });
+  }
+
+  // Bodies of finite-strain materials: a deformation gradient inside the law's range, no stress.
+  void check_initial_gradients(const Scene& s, const json& doc, const std::string& fs) const {
     for (std::size_t i = 0; i < s.bodies.size(); ++i) {
       const BodySpec& b = s.bodies[i];
       const MaterialSpec& m = s.materials[b.material];
@@ -415,27 +435,30 @@ class Parser {
                  "is not allowed " + fs + ": its bodies start from a deformation gradient",
                  "deformation_gradient (the nominal stress follows from it), or no stress key");
       if (b.deformation_gradient.empty()) continue;
-      const std::string outside =
-          "is outside the hyperbolic range of \"" + m.model + "\" (material \"" + m.name + "\")";
+      const json& given = doc["bodies"][i]["deformation_gradient"];
+      const std::string outside = "is outside the hyperbolic range of \"" +
+                                  std::string(m.model_name()) + "\" (material \"" + m.name + "\")";
       if (s.dimension == 2) {
         if (!hyperbolic_2d(m, b.deformation_gradient))
-          refuse(key_path(path, "deformation_gradient"), doc["bodies"][i]["deformation_gradient"],
-                 outside, "det F > 0 and an acoustic tensor positive definite in every direction");
+          refuse(key_path(path, "deformation_gradient"), given, outside,
+                 "det F > 0 and an acoustic tensor positive definite in every direction");
         continue;
       }
-      const double lo = lowest_f(m);
+      const double lo = lowest_f(m, 1);
       if (!(b.deformation_gradient[0] > lo))
-        refuse(key_path(path, "deformation_gradient"), doc["bodies"][i]["deformation_gradient"],
-               outside,
+        refuse(key_path(path, "deformation_gradient"), given, outside,
                "F_xx > " + number_text(lo) +
                    (lo > 0 ? " (the longitudinal tangent dP/dF vanishes at 1/sqrt(3))" : ""));
     }
-    // A normal traction no state of the law reaches would compress past the range at the loaded
-    // edge.
+  }
+
+  // A normal traction no state of the law reaches would compress past the range at the loaded
+  // edge.
+  void check_normal_tractions(const Scene& s, const json& doc) const {
     double lowest = -std::numeric_limits<double>::infinity();
     const MaterialSpec* limiting = nullptr;
     for (const MaterialSpec& m : s.materials)
-      if (const double p = lowest_p(m); p > lowest) lowest = p, limiting = &m;
+      if (const double p = lowest_stress(m, s.dimension); p > lowest) lowest = p, limiting = &m;
     const auto d = static_cast<std::size_t>(s.dimension);
     for (int axis = 0; axis < s.dimension && limiting; ++axis)
       for (int side = 0; side < 2; ++side)
@@ -446,11 +469,11 @@ class Parser {
                 const std::string key = side_keys[2 * axis + side];
                 refuse(key_path("boundaries", key), doc["boundaries"][key],
                        "prescribes a normal nominal stress " + number_text(b.values[k]) +
-                           " Pa that \"" + limiting->model + "\" (material \"" + limiting->name +
-                           "\") reaches only past its hyperbolic range",
+                           " Pa that \"" + limiting->model_name() + "\" (material \"" +
+                           limiting->name + "\") reaches only past its hyperbolic range",
                        "normal nominal stresses above " + number_text(lowest) +
                            " Pa (P_xx at the least uniaxial F_xx in the range, " +
-                           number_text(lowest_f(*limiting)) + ")");
+                           number_text(lowest_f(*limiting, s.dimension)) + ")");
               }
   }
 
@@ -481,7 +504,10 @@ class Parser {
 
   void check_object(const json& v, const std::string& path,
                     std::initializer_list<const char*> keys) const {
-    std::vector<std::string> names(keys.begin(), keys.end());
+    check_object(v, path, std::vector<std::string>(keys.begin(), keys.end()));
+  }
+  void check_object(const json& v, const std::string& path,
+                    const std::vector<std::string>& names) const {
     if (!v.is_object()) wrong_type(path, v, "an object with keys " + join(names));
     for (auto it = v.begin(); it != v.end(); ++it)
       if (std::find(names.begin(), names.end(), it.key()) == names.end())
@@ -631,28 +657,16 @@ class Parser {
       const json& v = it.value();
       MaterialSpec mat;
       mat.name = it.key();
-      if (const json* model = find(v, "model")) {
-        const int kind = choice<int>(*model, key_path(path, "model"),
-                                     {{"linear_elastic", 0},
-                                      {"elastoplastic", 1},
-                                      {"elasto_viscoplastic", 2},
-                                      {"saint_venant_kirchhoff", 3},
-                                      {"neo_hookean", 4}});
-        mat.model = model->get<std::string>();
-        if (kind == 0 || kind >= 3) check_object(v, path, {"model", "young", "poisson", "density"});
-        if (kind == 1)
-          check_object(v, path,
-                       {"model", "young", "poisson", "density", "yield_stress",
-                        "isotropic_hardening", "kinematic_hardening"});
-        if (kind == 2)
-          check_object(v, path,
-                       {"model", "young", "poisson", "density", "yield_stress",
-                        "isotropic_hardening", "kinematic_hardening", "relaxation_time",
-                        "rate_exponent"});
-        if (kind == 1 || kind == 2) mat.flow = parse_flow(v, path, kind == 2);
-      } else {
-        check_object(v, path, {"model", "young", "poisson", "density"});
+      std::size_t model = 0;  // linear_elastic
+      if (const json* k = find(v, "model")) {
+        std::vector<std::pair<const char*, std::size_t>> names;
+        for (std::size_t i = 0; i < model_names.size(); ++i) names.emplace_back(model_names[i], i);
+        model = choice_among(*k, key_path(path, "model"), names);
       }
+      std::vector<std::string> keys = {"model", "young", "poisson", "density"};
+      keys.insert(keys.end(), model_parsers[model].keys.begin(), model_parsers[model].keys.end());
+      check_object(v, path, keys);
+      mat.model = (this->*model_parsers[model].parse)(v, path);
       mat.young = positive(require(v, path, "young", "a number > 0"), key_path(path, "young"));
       mat.density =
           positive(require(v, path, "density", "a number > 0"), key_path(path, "density"));
@@ -666,6 +680,33 @@ class Parser {
     }
     return out;
   }
+
+  // What a model reads beside the elastic constants.
+  template <class Model>
+  MaterialModel read_model(const json& v, const std::string& path) const {
+    if constexpr (std::is_same_v<Model, ElastoPlastic>)
+      return ElastoPlastic{parse_flow(v, path, false)};
+    else if constexpr (std::is_same_v<Model, ElastoViscoplastic>)
+      return ElastoViscoplastic{parse_flow(v, path, true)};
+    else
+      return Model{};
+  }
+  // One parser per material model (in the order of MaterialModel and model_names): its keys
+  // beside the elastic constants, and what it reads of them.
+  struct ModelParser {
+    std::vector<const char*> keys;
+    MaterialModel (Parser::*parse)(const json& v, const std::string& path) const;
+  };
+  static inline const std::array<ModelParser, std::variant_size_v<MaterialModel>> model_parsers{{
+      {{}, &Parser::read_model<LinearElastic>},
+      {{"yield_stress", "isotropic_hardening", "kinematic_hardening"},
+       &Parser::read_model<ElastoPlastic>},
+      {{"yield_stress", "isotropic_hardening", "kinematic_hardening", "relaxation_time",
+        "rate_exponent"},
+       &Parser::read_model<ElastoViscoplastic>},
+      {{}, &Parser::read_model<Hyperelastic<SaintVenantKirchhoff>>},
+      {{}, &Parser::read_model<Hyperelastic<NeoHookean>>},
+  }};
 
   // The yield stress, hardening moduli and (viscoplastic) relaxation of a plastic material.
   PlasticFlow parse_flow(const json& v, const std::string& path, bool viscous) const {
@@ -785,7 +826,35 @@ class Parser {
     BodySpec body;
     const auto n = static_cast<std::size_t>(s.dimension);
     const std::string per_axis = "one per axis, dimension " + std::to_string(s.dimension);
+    body.material = parse_body_material(b, path, s);
+    parse_box(b, path, s, body);
+    body.layout = parse_layout(b, path, n);
+    const std::size_t layout = body.layout.size();
+    body.masses_in_cell.assign(layout, 1.0);
+    if (const json* w = find(b, "masses_in_cell")) {
+      const std::string w_path = key_path(path, "masses_in_cell");
+      body.masses_in_cell =
+          numbers(*w, w_path, layout, "numbers > 0, one per particle of the cell layout");
+      for (std::size_t j = 0; j < layout; ++j) positive((*w)[j], index_path(w_path, j));
+    }
+    body.velocity.assign(n, 0.0);
+    if (const json* v = find(b, "velocity"))
+      body.velocity = numbers(*v, key_path(path, "velocity"), n, per_axis);
+    const std::size_t ns = stress_size(s.dimension);
+    body.stress.assign(ns, 0.0);
+    if (const json* st = find(b, "stress"))
+      body.stress = numbers(*st, key_path(path, "stress"), ns,
+                            s.dimension == 1 ? "sigma" : "independent stress components");
+    if (const json* f = find(b, "deformation_gradient"))
+      body.deformation_gradient =
+          s.dimension == 1
+              ? numbers(*f, key_path(path, "deformation_gradient"), 1, "[F_xx]")
+              : numbers(*f, key_path(path, "deformation_gradient"), 4, "[F_xx, F_xy, F_yx, F_yy]");
+    return body;
+  }
 
+  // The index of the body's material among the scene's.
+  int parse_body_material(const json& b, const std::string& path, const Scene& s) const {
     std::vector<std::string> names;
     for (const auto& m : s.materials) names.push_back(m.name);
     const std::string material_path = key_path(path, "material");
@@ -794,8 +863,13 @@ class Parser {
     const auto it = std::find(names.begin(), names.end(), m.get<std::string>());
     if (it == names.end())
       refuse(material_path, m, "is not a material of this scene", "one of " + join(names));
-    body.material = static_cast<int>(it - names.begin());
+    return static_cast<int>(it - names.begin());
+  }
 
+  // The body's box: inside the grid, max above min on every axis.
+  void parse_box(const json& b, const std::string& path, const Scene& s, BodySpec& body) const {
+    const auto n = static_cast<std::size_t>(s.dimension);
+    const std::string per_axis = "one per axis, dimension " + std::to_string(s.dimension);
     const std::string box_path = key_path(path, "box");
     const json& box = require(b, path, "box", "an object with min and max");
     check_object(box, box_path, {"min", "max"});
@@ -825,7 +899,12 @@ class Parser {
       if (body.box_max[a] > grid_hi[a] + slack)
         refuse(max_path, hi, "is outside the grid " + grid_text, "inside the grid");
     }
+  }
 
+  // Local coordinates of a cell's particles: particles_per_cell or positions_in_cell.
+  std::vector<std::array<double, 3>> parse_layout(const json& b, const std::string& path,
+                                                  std::size_t n) const {
+    std::vector<std::array<double, 3>> layout;
     const json* ppc = find(b, "particles_per_cell");
     const json* pic = find(b, "positions_in_cell");
     const std::string ppc_path = key_path(path, "particles_per_cell");
@@ -859,7 +938,7 @@ class Parser {
           xi[0] = (i + 0.5) / count[0];
           if (n > 1) xi[1] = (j + 0.5) / count[1];
           if (n > 2) xi[2] = (l + 0.5) / count[2];
-          body.layout.push_back(xi);
+          layout.push_back(xi);
         }
     } else {
       const std::string point =
@@ -883,31 +962,10 @@ class Parser {
               not_allowed(index_path(p, a), (*pic)[j][a], "a number in [0, 1]");
           }
         }
-        body.layout.push_back(xi);
+        layout.push_back(xi);
       }
     }
-    const std::size_t layout = body.layout.size();
-    body.masses_in_cell.assign(layout, 1.0);
-    if (const json* w = find(b, "masses_in_cell")) {
-      const std::string w_path = key_path(path, "masses_in_cell");
-      body.masses_in_cell =
-          numbers(*w, w_path, layout, "numbers > 0, one per particle of the cell layout");
-      for (std::size_t j = 0; j < layout; ++j) positive((*w)[j], index_path(w_path, j));
-    }
-    body.velocity.assign(n, 0.0);
-    if (const json* v = find(b, "velocity"))
-      body.velocity = numbers(*v, key_path(path, "velocity"), n, per_axis);
-    const std::size_t ns = stress_size(s.dimension);
-    body.stress.assign(ns, 0.0);
-    if (const json* st = find(b, "stress"))
-      body.stress = numbers(*st, key_path(path, "stress"), ns,
-                            s.dimension == 1 ? "sigma" : "independent stress components");
-    if (const json* f = find(b, "deformation_gradient"))
-      body.deformation_gradient =
-          s.dimension == 1
-              ? numbers(*f, key_path(path, "deformation_gradient"), 1, "[F_xx]")
-              : numbers(*f, key_path(path, "deformation_gradient"), 4, "[F_xx, F_xy, F_yx, F_yy]");
-    return body;
+    return layout;
   }
 
   // Every body holds a particle; no particle lies in two boxes.
@@ -1119,6 +1177,17 @@ class Parser {
                         : std::vector<double>{number(*value, value_path, allowed)};
       return bc;
     }
+    parse_value_table(*value, value_path, plane ? n : 1, what, one, allowed, bc);
+    return bc;
+  }
+
+  // A boundary value's table [[t0, value0], ...]: times from 0, strictly increasing; `n` numbers
+  // per time (an array of them in 2D).
+  void parse_value_table(const json& table, const std::string& value_path, std::size_t n,
+                         const std::string& what, const std::string& one,
+                         const std::string& allowed, BoundarySpec& bc) const {
+    const bool plane = n > 1;
+    const json* value = &table;
     if (!value->is_array()) wrong_type(value_path, *value, allowed);
     if (value->empty()) refuse(value_path, *value, "is an empty table", allowed);
     for (std::size_t k = 0; k < value->size(); ++k) {
@@ -1141,7 +1210,6 @@ class Parser {
         bc.values.push_back(number(r[1], row + "[1]", "a number"));
       }
     }
-    return bc;
   }
 
   Scene::PlaneWave parse_plane_wave(const json& w, const Scene& s) const {

@@ -6,6 +6,7 @@
 #include <dgmpm/boundary.hpp>
 #include <dgmpm/dg_operator.hpp>
 #include <dgmpm/discretisation.hpp>
+#include <dgmpm/physics/hyperelastic_laws.hpp>
 #include <dgmpm/physics/plastic_flow.hpp>
 #include <stability/options.hpp>
 
@@ -16,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace dgmpm::scene {
@@ -38,15 +40,37 @@ struct GridSpec {
   double upper(std::size_t axis) const { return origin[axis] + cells[axis] * cell_size[axis]; }
 };
 
+// The material models a scene can name ("model"), each with the keys of its own beside the
+// elastic constants every model has; scene.cpp parses each with a function of its own.
+struct LinearElastic {};  // "linear_elastic", the default
+struct ElastoPlastic {    // "elastoplastic": J2 flow, isotropic and kinematic hardening
+  PlasticFlow flow;
+};
+struct ElastoViscoplastic {  // "elasto_viscoplastic": Perzyna (flow.relaxation_time > 0)
+  PlasticFlow flow;
+};
+// "saint_venant_kirchhoff", "neo_hookean" (finite strain: density is the reference density rho0)
+template <class Law>
+struct Hyperelastic {};
+using MaterialModel = std::variant<LinearElastic, ElastoPlastic, ElastoViscoplastic,
+                                   Hyperelastic<SaintVenantKirchhoff>, Hyperelastic<NeoHookean>>;
+
 struct MaterialSpec {
   std::string name;
-  // or "elastoplastic", "elasto_viscoplastic" (small strain), "saint_venant_kirchhoff",
-  // "neo_hookean" (finite strain: density is the reference density rho0)
-  std::string model = "linear_elastic";
+  MaterialModel model;
   double young = 0, poisson = 0, density = 0;
-  PlasticFlow flow;  // plastic models: yield stress (infinite for linear_elastic), hardening
-  bool plastic() const { return model == "elastoplastic" || model == "elasto_viscoplastic"; }
-  bool finite_strain() const { return model == "saint_venant_kirchhoff" || model == "neo_hookean"; }
+  const char* model_name() const;  // as the scene names it
+  bool plastic() const {
+    return std::holds_alternative<ElastoPlastic>(model) ||
+           std::holds_alternative<ElastoViscoplastic>(model);
+  }
+  bool finite_strain() const { return model.index() >= 3; }
+  // The plastic flow of a plastic model; otherwise an infinite yield stress (elastic).
+  PlasticFlow flow() const {
+    if (const auto* m = std::get_if<ElastoPlastic>(&model)) return m->flow;
+    if (const auto* m = std::get_if<ElastoViscoplastic>(&model)) return m->flow;
+    return {};
+  }
 };
 
 struct BodySpec {

@@ -168,7 +168,7 @@ SceneSpectrumResult analyse_scene_spectrum(const scene::Scene& scene, double tol
   for (const auto& m : scene.materials)
     if (m.finite_strain())
       throw scene::SceneError(
-          scene.source + ": materials." + m.name + ".model: value \"" + m.model +
+          scene.source + ": materials." + m.name + ".model: value \"" + m.model_name() +
           "\" has no linear scene operator to analyse (a finite-strain step is not a linear "
           "map); allowed: small-strain materials (`dgmpm courant` gives a layout's C*, which "
           "the finite-strain automatic step uses)");

@@ -126,7 +126,7 @@ BOOST_AUTO_TEST_CASE(full_scene_parses) {
   BOOST_TEST(s.materials[0].young == 7e10);
   BOOST_TEST(s.materials[0].density == 2700.0);
   BOOST_TEST(s.materials[0].poisson == 0.0);
-  BOOST_TEST(s.materials[0].model == "linear_elastic");
+  BOOST_TEST(s.materials[0].model_name() == std::string("linear_elastic"));
   BOOST_TEST(s.materials[1].name == "steel");
   BOOST_TEST(s.materials[1].poisson == 0.3);
 
@@ -175,7 +175,7 @@ BOOST_AUTO_TEST_CASE(defaults) {
   BOOST_TEST((s.method == Method::dgmpm));
   BOOST_TEST((s.update == MpmUpdate::flip));
   BOOST_TEST(!s.grid.periodic[0]);
-  BOOST_TEST(s.materials[0].model == "linear_elastic");
+  BOOST_TEST(s.materials[0].model_name() == std::string("linear_elastic"));
   BOOST_TEST(s.materials[0].poisson == 0.0);
   const BodySpec& b = s.bodies[0];
   BOOST_REQUIRE(b.layout.size() == 3u);
