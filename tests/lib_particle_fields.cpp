@@ -9,6 +9,8 @@
 #include <dgmpm/physics/plane_strain.hpp>
 #include <dgmpm/stepper.hpp>
 
+#include "step_counting_plane.hpp"
+
 #include <cmath>
 #include <random>
 #include <set>
@@ -19,16 +21,8 @@ using namespace dgmpm;
 namespace {
 
 // Plane strain with one internal variable, incremented by the particle step: a material with
-// internal state that changes nothing else.
-struct CountingPlaneStrain : PlaneStrain {
-  static constexpr int n_internal = 1;
-  static constexpr std::array<const char*, n_internal> internal_names{"steps"};
-  static constexpr std::array<const char*, n_internal> internal_units{"1"};
-  template <class Q, class Z>
-  static void particle_step(Q&&, Z&& z, const Material&, double) {
-    z[0] += 1.0;
-  }
-};
+// internal state that changes nothing else (the solver runs it in solver_new_material.cpp).
+using CountingPlaneStrain = testing::StepCountingPlane;
 static_assert(physics::ParticleStepPhysics<CountingPlaneStrain>);
 static_assert(!physics::ParticleStepPhysics<PlaneStrain>);
 static_assert(physics::DGPhysics<PlaneStrain> && physics::MpmConstitutive<PlaneStrain>);
