@@ -1187,12 +1187,11 @@ class Parser {
                          const std::string& what, const std::string& one,
                          const std::string& allowed, BoundarySpec& bc) const {
     const bool plane = n > 1;
-    const json* value = &table;
-    if (!value->is_array()) wrong_type(value_path, *value, allowed);
-    if (value->empty()) refuse(value_path, *value, "is an empty table", allowed);
-    for (std::size_t k = 0; k < value->size(); ++k) {
+    if (!table.is_array()) wrong_type(value_path, table, allowed);
+    if (table.empty()) refuse(value_path, table, "is an empty table", allowed);
+    for (std::size_t k = 0; k < table.size(); ++k) {
       const std::string row = index_path(value_path, k);
-      const json& r = (*value)[k];
+      const json& r = table[k];
       const std::string row_allowed = plane ? "a pair [time, " + one + "]" : "a pair [time, value]";
       array(r, row, row_allowed);
       if (r.size() != 2)

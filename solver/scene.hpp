@@ -64,7 +64,10 @@ struct MaterialSpec {
     return std::holds_alternative<ElastoPlastic>(model) ||
            std::holds_alternative<ElastoViscoplastic>(model);
   }
-  bool finite_strain() const { return model.index() >= 3; }
+  bool finite_strain() const {
+    return std::holds_alternative<Hyperelastic<SaintVenantKirchhoff>>(model) ||
+           std::holds_alternative<Hyperelastic<NeoHookean>>(model);
+  }
   // The plastic flow of a plastic model; otherwise an infinite yield stress (elastic).
   PlasticFlow flow() const {
     if (const auto* m = std::get_if<ElastoPlastic>(&model)) return m->flow;
