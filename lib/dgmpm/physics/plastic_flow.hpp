@@ -19,6 +19,11 @@ struct PlasticFlow {
   double relaxation_time = 0;                                     // tau; 0: rate-independent
   double rate_exponent = 1;                                       // n
 
+  // The ranges the return is derived for; a scene outside them is refused. Softening (a negative
+  // hardening modulus) makes the local problem ill-posed; Newton's descent needs a convex rate law.
+  static bool admissible_hardening(double modulus) { return modulus >= 0; }
+  static bool admissible_rate_exponent(double n) { return n >= 1; }
+
   bool elastic() const { return !(yield_stress < std::numeric_limits<double>::infinity()); }
   double hardening() const { return isotropic_hardening + kinematic_hardening; }  // h
   // The radius of the elastic domain after an equivalent plastic strain p.

@@ -7,6 +7,12 @@
 
 namespace dgmpm::physics {
 
+// -1 < nu < 1/2: the range of an isotropic elasticity tensor that is positive definite (shear and
+// bulk moduli E / (2 (1 + nu)) and E / (3 (1 - 2 nu)) positive for E > 0).
+inline bool admissible_poisson(double nu) {
+  return nu > -1 && nu < 0.5;
+}
+
 inline Eigen::Matrix3d isotropic_strain(const Eigen::Matrix3d& sigma, double lambda, double mu) {
   const double volumetric = lambda / (3 * lambda + 2 * mu) * sigma.trace();
   return (sigma - volumetric * Eigen::Matrix3d::Identity()) / (2 * mu);
