@@ -209,6 +209,12 @@ class TimeStepControl : public LayoutQuantisation {
     return hyperbolic ? dt : std::numeric_limits<double>::quiet_NaN();
   }
 
+  // Cells the last time_step took on the serial path, no cache holding their C* (automatic
+  // steps): 0 once the run's layouts are known.
+  int serial_cells() const {
+    return static_cast<int>(misses_.size());
+  }
+
   // The largest wave speed the last time_step saw (over this rank's occupied cells).
   double fastest_speed() const {
     return fastest_;
@@ -374,12 +380,18 @@ class TimeStepControl : public LayoutQuantisation {
     return disc.cell_end(c) - disc.cell_begin(c) == 1 && lone_particle_shared_;
   }
 
-  // C* of a lone particle's cell when a cache holds it, without building a key (the common
-  // case), else NaN. Reads the caches and writes only cell c's memo: callable from threads.
+  // C* of cell c when a cache holds it, without building a key (the common case once the run has
+  // started), else NaN. Reads the caches and writes only cell c's memo: callable from threads.
   double cached_courant(const Disc& disc, const ParticleSet& particles, int c) {
     const int n = disc.cell_end(c) - disc.cell_begin(c);
-    if (n != 1) {
-      if (!lattice_ || n * dim <= kLatticeCoordinates) return kMiss;
+    if (n == 1 && lone_particle_shared_) {
+      const double nu = poisson_of(disc, c);
+      for (const auto& [n, courant] : lone_courant_)
+        if (n == nu) return courant;
+      return kMiss;
+    }
+    if (!lattice_) return kMiss;
+    if (n * dim > kLatticeCoordinates) {
       const Moments moments = moments_of(disc, particles, c);
       if (moments.non_tensor > kTensorTolerance) return kMiss;
       const std::uint64_t code = moment_code(disc, c, moments, false);
@@ -387,14 +399,11 @@ class TimeStepControl : public LayoutQuantisation {
       return it == moment_boxes_.end() ? kMiss
                                        : (1.0 - kTensorSlope * moments.non_tensor) * it->second;
     }
-    if (lone_particle_shared_) {
-      const double nu = poisson_of(disc, c);
-      for (const auto& [n, courant] : lone_courant_)
-        if (n == nu) return courant;
-      return kMiss;
-    }
-    if (!lattice_ || static_cast<int>(last_code_.size()) != disc.num_cells()) return kMiss;
-    const std::uint64_t code = lone_code(disc, c);
+    if (static_cast<int>(last_code_.size()) != disc.num_cells()) return kMiss;
+    const SmallLayout layout = small_layout(disc, particles, c);
+    const int masses = seen_masses(layout), poisson = seen_poisson(disc, c);
+    if (masses < 0 || poisson < 0) return kMiss;
+    const std::uint64_t code = lattice_code(layout, masses, poisson, nullptr);
     if (code == 0) return kMiss;
     // Particles cross a box every few steps at most: the cell's last box first.
     if (last_code_[c] == code) return last_courant_[c];
@@ -406,22 +415,65 @@ class TimeStepControl : public LayoutQuantisation {
   }
   static constexpr double kMiss = std::numeric_limits<double>::quiet_NaN();
 
-  // The box code of cell c's lone particle (lattice_courant's, equal masses), 0 when its Poisson
-  // ratio has no index yet.
-  std::uint64_t lone_code(const Disc& disc, int c) const {
-    const auto xi = disc.particle_local(disc.entry_particle(disc.cell_begin(c)));
-    std::uint64_t code = 1;
-    for (int a = 0; a < dim; ++a)
-      code = code << 8 | static_cast<std::uint64_t>(Lattice::box(xi[a]));
-    int poisson = 0;
-    if constexpr (dim > 1) {
+  // A lattice layout's particles (at most kLatticeCoordinates coordinates), as they are, sorted:
+  // entries_ without the shared buffer, for the threads.
+  struct SmallLayout {
+    std::array<Entry, kLatticeCoordinates> entry{};
+    int n = 0;
+  };
+  static SmallLayout small_layout(const Disc& disc, const ParticleSet& particles, int c) {
+    SmallLayout layout;
+    layout.n = std::min(disc.cell_end(c) - disc.cell_begin(c), kLatticeCoordinates / dim);
+    for (int k = 0; k < layout.n; ++k) {
+      const int p = disc.entry_particle(disc.cell_begin(c) + k);
+      for (int a = 0; a < dim; ++a) layout.entry[k].x[a] = disc.particle_local(p)[a];
+      layout.entry[k].mass = particles.mass[p];
+    }
+    for (int k = 1; k < layout.n; ++k)  // insertion sort: at most four entries
+      for (int j = k; j > 0 && layout.entry[j] < layout.entry[j - 1]; --j)
+        std::swap(layout.entry[j], layout.entry[j - 1]);
+    return layout;
+  }
+
+  // The box code of a lattice layout: its count (3 bits), the boxes (8 bits per coordinate, also
+  // written to `box` when given), its masses' index (16) and Poisson's (8); 0 when an index has no
+  // room.
+  static std::uint64_t lattice_code(const SmallLayout& layout, int masses, int poisson,
+                                    std::array<int, kLatticeCoordinates>* box) {
+    if (masses >= (1 << 16) || poisson >= (1 << 8)) return 0;
+    std::uint64_t code = static_cast<std::uint64_t>(layout.n);
+    for (int k = 0; k < layout.n; ++k)
+      for (int a = 0; a < dim; ++a) {
+        const int b = Lattice::box(layout.entry[k].x[a]);
+        if (box) (*box)[k * dim + a] = b;
+        code = code << 8 | static_cast<std::uint64_t>(b);
+      }
+    code = code << 16 | static_cast<std::uint64_t>(masses);
+    return code << 8 | static_cast<std::uint64_t>(poisson);
+  }
+
+  // masses_index and poisson_index without adding: -1 when not seen yet.
+  int seen_masses(const SmallLayout& layout) const {
+    const double unit = layout.entry[0].mass;
+    bool equal = true;
+    for (int k = 0; k < layout.n; ++k) equal = equal && layout.entry[k].mass == unit;
+    if (equal) return 0;
+    for (std::size_t i = 0; i < masses_seen_.size(); ++i) {
+      const auto& seen = masses_seen_[i];
+      bool same = static_cast<int>(seen.size()) == layout.n;
+      for (int k = 0; same && k < layout.n; ++k) same = seen[k] == layout.entry[k].mass / unit;
+      if (same) return 1 + static_cast<int>(i);
+    }
+    return -1;
+  }
+  int seen_poisson(const Disc& disc, int c) const {
+    if constexpr (dim == 1) {
+      return 0;
+    } else {
       const auto it =
           std::find(poisson_seen_.begin(), poisson_seen_.end(), disc.cell_material(c).poisson);
-      if (it == poisson_seen_.end()) return 0;
-      poisson = static_cast<int>(it - poisson_seen_.begin());
+      return it == poisson_seen_.end() ? -1 : static_cast<int>(it - poisson_seen_.begin());
     }
-    if (poisson >= (1 << 8)) return 0;
-    return (code << 16) << 8 | static_cast<std::uint64_t>(poisson);
   }
 
   // Cell c's particles as entries (positions rounded to `quantum`, 0: as they are), sorted.
@@ -542,29 +594,20 @@ class TimeStepControl : public LayoutQuantisation {
   // The smallest C* over the corners of the lattice box holding cell c's layout (moving
   // particles, at most kLatticeCoordinates coordinates), through the box cache.
   double lattice_courant(const Disc& disc, const ParticleSet& particles, int c) {
-    fill_entries(disc, particles, c, 0.0);
-    const int n = static_cast<int>(entries_.size());
-    // The code: count (3 bits), the boxes (8 bits per coordinate), masses (16), Poisson (8).
-    std::uint64_t code = static_cast<std::uint64_t>(n);
+    const SmallLayout layout = small_layout(disc, particles, c);
+    entries_.assign(layout.entry.begin(), layout.entry.begin() + layout.n);
     std::array<int, kLatticeCoordinates> box{};
-    for (int k = 0; k < n; ++k)
-      for (int a = 0; a < dim; ++a) {
-        box[k * dim + a] = Lattice::box(entries_[k].x[a]);
-        code = code << 8 | static_cast<std::uint64_t>(box[k * dim + a]);
-      }
-    const int masses = masses_index(), poisson = poisson_index(disc, c);
-    if (masses >= (1 << 16) || poisson >= (1 << 8)) {  // beyond the code: rounded as large ones
+    const std::uint64_t code = lattice_code(layout, masses_index(), poisson_index(disc, c), &box);
+    if (code == 0) {  // beyond the code: rounded as large ones
       fill_entries(disc, particles, c, quantum_);
       return analysed(disc, c);
     }
-    code = code << 16 | static_cast<std::uint64_t>(masses);
-    code = code << 8 | static_cast<std::uint64_t>(poisson);
     if (const auto it = boxes_.find(code); it != boxes_.end()) return it->second;
     // The smallest C* over the box's corners, the particles moved onto them.
-    const std::vector<Entry> actual = entries_;
+    const int n = layout.n;
     const auto& points = Lattice::points();
     const double courant = smallest_over_corners(disc, c, 1 << (n * dim), [&](int corner) {
-      entries_ = actual;
+      entries_.assign(layout.entry.begin(), layout.entry.begin() + n);
       for (int k = 0; k < n; ++k)
         for (int a = 0; a < dim; ++a)
           entries_[k].x[a] = points[box[k * dim + a] + ((corner >> (k * dim + a)) & 1)];
