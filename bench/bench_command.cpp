@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 namespace dgmpm::bench {
 
@@ -18,6 +20,10 @@ struct BenchArguments {
   int threads = 0;
   bool json = false;
   int repeats = 3;
+  std::string flop_counts;
+  std::string count_steps;
+  int steps = 2;
+  bool list_cases = false;
 };
 }  // namespace
 
@@ -52,13 +58,43 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--repeats", args->repeats, "Runs per case for --json (min and median)")
       ->check(CLI::Range(1, 100))
       ->needs(json);
+  cmd->add_option("--flop-counts", args->flop_counts,
+                  "With --json: each case's roofline from these flops per particle-step "
+                  "(the JSON bench/count_flops.py writes)")
+      ->check(CLI::ExistingFile)
+      ->needs(json);
+  CLI::Option* count =
+      cmd->add_option("--count-steps", args->count_steps,
+                      "Take --steps steps of this --json case (--particles, the largest) and "
+                      "nothing else: what bench/count_flops.py counts under callgrind")
+          ->excludes(json)
+          ->excludes(what);
+  cmd->add_option("--steps", args->steps, "Steps for --count-steps")
+      ->check(CLI::Range(1, 1000000))
+      ->needs(count);
+  cmd->add_flag("--cases", args->list_cases, "Print the --json cases' names, one per line")
+      ->excludes(json)
+      ->excludes(what)
+      ->excludes(count);
   cmd->callback([args] {
     apply_threads(args->threads);
-    if (args->json) {
-      run_goals_benchmark(std::cout,
-                          *std::max_element(args->particles.begin(), args->particles.end()),
-                          args->seconds, args->repeats);
+    const int particles = *std::max_element(args->particles.begin(), args->particles.end());
+    if (args->list_cases) {
+      for (const auto& name : goal_case_names()) std::cout << name << '\n';
       return;
+    }
+    try {
+      if (!args->count_steps.empty()) {
+        run_counted_steps(args->count_steps, particles, args->steps);
+        return;
+      }
+      if (args->json) {
+        run_goals_benchmark(std::cout, particles, args->seconds, args->repeats, args->flop_counts);
+        return;
+      }
+    } catch (const std::runtime_error& e) {  // a bad --count-steps or --flop-counts
+      std::cerr << "dgmpm bench: " << e.what() << '\n';
+      throw CLI::RuntimeError(2);
     }
     for (const auto& w : args->what) {
       if (w == "solver") run_solver_benchmark(std::cout, args->particles, args->seconds);

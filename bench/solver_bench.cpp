@@ -1,5 +1,7 @@
 #include "bench/solver_bench.hpp"
 
+#include "bench/roofline.hpp"
+
 #include "solver/communicator.hpp"
 #include "solver/problem.hpp"
 #include "solver/simulation.hpp"
@@ -10,11 +12,14 @@
 #include <cmath>
 #include <dgmpm/discretisation.hpp>
 #include <iomanip>
+#include <iostream>
 #include <limits>
 #include <malloc.h>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <omp.h>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 #include <utility>
 
@@ -341,12 +346,17 @@ struct Rates {
   }
 };
 
+// One timed step: at `dt`, or at a time step chosen for it ("courant": "auto").
+template <class Physics>
+void goal_step(Simulation<Physics>& sim, double dt) {
+  sim.step(sim.scene().time.courant_auto ? sim.stable_time_step() : dt);
+}
+
 template <class Physics>
 Rates time_steps(Simulation<Physics>& sim, int repeats, double seconds) {
   using clock = std::chrono::steady_clock;
-  const bool fresh_dt = sim.scene().time.courant_auto;
   const double dt = sim.stable_time_step();
-  const auto step = [&] { sim.step(fresh_dt ? sim.stable_time_step() : dt); };
+  const auto step = [&] { goal_step(sim, dt); };
   step();  // warm: every buffer allocated
   Rates rates;
   const double n = sim.particles().size();
@@ -422,13 +432,9 @@ Eigen::MatrixXd states_after(const scene::Scene& scene, int threads, int steps) 
   });
 }
 
-}  // namespace
-
-void run_goals_benchmark(std::ostream& out, int particles, double seconds, int repeats) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);  // the goals are for one core unless said
-  const double triad = triad_bytes_per_second(5);
-  const std::vector<GoalCase> cases{
+// The goal cases at `particles` particles.
+std::vector<GoalCase> goal_cases(int particles) {
+  return {
       {"1D DGMPM Euler", bar_scene(particles, "dgmpm", "euler", false), {1, 2, false, false}},
       {"1D DGMPM RK2", bar_scene(particles, "dgmpm", "rk2", false), {1, 2, false, false}},
       {"1D moving, auto dt, 2 ppc",
@@ -476,6 +482,60 @@ void run_goals_benchmark(std::ostream& out, int particles, double seconds, int r
       {"2D finite strain SVK DCU Euler, 1 ppc",
        plate_scene(particles, 1, "dcu", "euler", "dgmpm", Yielding::none, "saint_venant_kirchhoff"),
        {2, 8, false, false}}};
+}
+
+// `steps` goal steps, the only code count_flops.py's callgrind counts (--toggle-collect).
+template <class Physics>
+[[gnu::noinline]] void counted_steps(Simulation<Physics>& sim, double dt, int steps) {
+  for (int k = 0; k < steps; ++k) goal_step(sim, dt);
+}
+
+const GoalCase& find_case(const std::vector<GoalCase>& cases, const std::string& name) {
+  for (const GoalCase& c : cases)
+    if (c.name == name) return c;
+  std::string allowed;
+  for (const GoalCase& c : cases) allowed += (allowed.empty() ? "\"" : ", \"") + c.name + "\"";
+  throw std::runtime_error("--count-steps: no goal case \"" + name + "\"; allowed: " + allowed);
+}
+
+}  // namespace
+
+std::vector<std::string> goal_case_names() {
+  std::vector<std::string> names;
+  for (const GoalCase& c : goal_cases(1000)) names.push_back(c.name);
+  return names;
+}
+
+void run_counted_steps(const std::string& name, int particles, int steps) {
+  const std::vector<GoalCase> cases = goal_cases(particles);
+  const GoalCase& c = find_case(cases, name);
+  with_physics(c.scene, [&](auto physics) {
+    using Physics = typename decltype(physics)::type;
+    Simulation<Physics> sim(c.scene);
+    const double dt = sim.stable_time_step();
+    goal_step(sim, dt);  // warm, as the timed runs are: every buffer allocated, caches filled
+    counted_steps(sim, dt, steps);
+    std::cout << nlohmann::json{{"case", name},
+                                {"particles", sim.particles().size()},
+                                {"steps", steps}}
+                     .dump()
+              << '\n';
+  });
+}
+
+void run_goals_benchmark(std::ostream& out, int particles, double seconds, int repeats,
+                         const std::string& flop_counts) {
+  const std::map<std::string, StepCount> counts =
+      flop_counts.empty() ? std::map<std::string, StepCount>{} : read_step_counts(flop_counts);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);  // the goals are for one core unless said
+  const double triad = triad_bytes_per_second(5);
+  const ArithmeticPeak peak = measure_arithmetic_peak(5);
+  const std::vector<GoalCase> cases = goal_cases(particles);
+  for (const GoalCase& c : cases)
+    if (!counts.empty() && !counts.count(c.name))
+      throw std::runtime_error("--flop-counts: \"" + flop_counts + "\" has no case \"" + c.name +
+                               "\" (count them again: bench/count_flops.py)");
   // What a plastic step costs: each plastic plate against the same elastic plate, measured in
   // this run (medians' ratio; the traffic counted is the elastic step's).
   const std::vector<std::pair<std::string, std::string>> plastic_pairs{
@@ -489,8 +549,18 @@ void run_goals_benchmark(std::ostream& out, int particles, double seconds, int r
   report["triad_bytes_per_second"] = triad;
   report["repeats"] = repeats;
   report["seconds_per_repeat"] = seconds;
-  for (const GoalCase& c : cases)
-    report["cases"].push_back(measure_case(c, repeats, seconds, triad));
+  report["arithmetic_peak_flops_per_second"] = {{"build", peak.build}, {"fma", peak.fma}};
+  if (!flop_counts.empty()) report["flop_counts"] = flop_counts;
+  for (const GoalCase& c : cases) {
+    nlohmann::json result = measure_case(c, repeats, seconds, triad);
+    if (!counts.empty()) {
+      const auto count = counts.find(c.name);
+      result["roofline"] =
+          roofline(count->second, result["particle_steps_per_second"]["median"].get<double>(),
+                   c.traffic.bytes(), peak, triad);
+    }
+    report["cases"].push_back(std::move(result));
+  }
   const auto median_of = [&](const std::string& name) {
     for (const auto& c : report["cases"])
       if (c["case"] == name) return c["particle_steps_per_second"]["median"].get<double>();

@@ -1,5 +1,6 @@
 #pragma once
 #include <ostream>
+#include <string>
 #include <vector>
 
 namespace dgmpm::bench {
@@ -24,7 +25,17 @@ void run_scaling_benchmark(std::ostream& out, const std::vector<int>& particle_c
 // The speed goals as JSON, on one core unless said: each case's particle-steps per second (min and
 // median of `repeats` runs of `seconds`), heap bytes per particle, the bytes a particle-step must
 // move by count, the triad bandwidth measured in the same run and the fraction of the bound it
-// gives; then two threads against one (speed-up, identical states).
-void run_goals_benchmark(std::ostream& out, int particles, double seconds, int repeats);
+// gives, the arithmetic peak measured in the same run and, given `flop_counts` (the JSON of
+// bench/count_flops.py; none when empty), each case's roofline; then two threads against one
+// (speed-up, identical states).
+void run_goals_benchmark(std::ostream& out, int particles, double seconds, int repeats,
+                         const std::string& flop_counts);
+
+// The goal cases' names, in the order --json reports them.
+std::vector<std::string> goal_case_names();
+// Builds the goal case `name` at `particles` particles, takes one step, then `steps` steps inside
+// a function of their own (count_flops.py's callgrind counts only those). Throws
+// std::runtime_error for an unknown name, listing the cases.
+void run_counted_steps(const std::string& name, int particles, int steps);
 
 }  // namespace dgmpm::bench

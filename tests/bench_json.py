@@ -1,19 +1,49 @@
 """`dgmpm bench --json` prints one JSON object with every goal case, its rates (min <= median,
 one per repeat), heap bytes per particle, the bytes a particle-step moves by count, the triad
-bandwidth and the fraction of its bound (consistent with each other), and two threads against
-one with identical states. Speed itself is not asserted (benchmarks, not tests)."""
+bandwidth and the fraction of its bound, the arithmetic peak and, given flop counts, each case's
+roofline (all consistent with each other), and two threads against one with identical states.
+Speed itself is not asserted (benchmarks, not tests)."""
 import json
+import os
 import subprocess
 import sys
+import tempfile
 
 binary = sys.argv[1]
-out = subprocess.run([binary, "bench", "--json", "--particles", "3000", "--seconds", "0.01",
-                      "--repeats", "2", "--threads", "2"], check=True, capture_output=True,
-                     text=True).stdout
+names = subprocess.run([binary, "bench", "--cases"], check=True, capture_output=True,
+                       text=True).stdout.splitlines()
+# Counts per particle-step in bench/count_flops.py's form (made up here: the roofline's arithmetic
+# is what is checked; tests/bench_flop_count.py checks the counting).
+counts = {name: {"flops_per_particle_step": 100.0 + k, "instructions_per_particle_step": 500.0 + k}
+          for k, name in enumerate(names)}
+with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+    json.dump({"cases": counts}, f)
+try:
+    out = subprocess.run([binary, "bench", "--json", "--particles", "3000", "--seconds", "0.01",
+                          "--repeats", "2", "--threads", "2", "--flop-counts", f.name], check=True,
+                         capture_output=True, text=True).stdout
+finally:
+    os.unlink(f.name)
 report = json.loads(out)
 triad = report["triad_bytes_per_second"]
 assert triad > 1e8, triad
-names = [c["case"] for c in report["cases"]]
+peak = report["arithmetic_peak_flops_per_second"]
+assert peak["build"] > 1e8 and peak["fma"] >= 0, peak
+assert report["flop_counts"] == f.name, report["flop_counts"]
+assert names == [c["case"] for c in report["cases"]], names
+for c in report["cases"]:
+    r, median = c["roofline"], c["particle_steps_per_second"]["median"]
+    count = counts[c["case"]]
+    assert r["flops_per_particle_step"] == count["flops_per_particle_step"], r
+    assert abs(r["flops_per_second"] - r["flops_per_particle_step"] * median) <= 1e-12 * r["flops_per_second"], r
+    assert abs(r["instructions_per_second"] - count["instructions_per_particle_step"] * median) <= 1e-9 * r["instructions_per_second"], r
+    assert abs(r["fraction_of_peak"] - r["flops_per_second"] / peak["build"]) <= 1e-12, r
+    assert abs(r["arithmetic_intensity"] - r["flops_per_particle_step"] / c["bytes_per_particle_step"]) <= 1e-12, r
+    arithmetic = peak["build"] / r["flops_per_particle_step"]
+    memory = c["bound_particle_steps_per_second"]
+    assert r["binding_bound"] == ("arithmetic" if arithmetic <= memory else "memory"), r
+    assert abs(r["fraction_of_binding_bound"] - median / min(arithmetic, memory)) <= 1e-12, r
+    assert peak["fma"] == 0 or abs(r["fraction_of_fma_peak"] - r["flops_per_second"] / peak["fma"]) <= 1e-12, r
 assert names == ["1D DGMPM Euler", "1D DGMPM RK2", "1D moving, auto dt, 2 ppc",
                  "2D DGMPM DCU Euler, 1 ppc", "2D DGMPM CTU RK2, 1 ppc",
                  "2D DGMPM 4 ppc (DCU Euler)", "2D MPM USL, 1 ppc",
@@ -55,4 +85,8 @@ assert [t["case"] for t in report["two_threads"]] == names, report["two_threads"
 assert all(t["bit_identical"] for t in report["two_threads"]), report["two_threads"]
 refused = subprocess.run([binary, "bench", "--json", "--what", "solver"], capture_output=True)
 assert refused.returncode != 0 and b"--what excludes --json" in refused.stderr, refused
+unknown = subprocess.run([binary, "bench", "--count-steps", "3D DGMPM Euler"], capture_output=True,
+                         text=True)
+assert unknown.returncode != 0 and unknown.stdout == "", unknown
+assert 'no goal case "3D DGMPM Euler"; allowed: "1D DGMPM Euler", ' in unknown.stderr, unknown.stderr
 print("bench --json: %d cases, triad %.3g B/s" % (len(names), triad))
