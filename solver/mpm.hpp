@@ -19,6 +19,9 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <array>
 #include <sstream>
 #include <utility>
@@ -52,9 +55,9 @@ class Mpm {
   static constexpr int ncomp = Physics::n_comp;
   static constexpr int velocity_row = ncomp - Dim;
   // Runs of this many particles or more step on threads (below, a parallel region costs more
-  // than it saves): the loops over particles and over nodes. The transfers to the grid (mass,
-  // momentum, internal force) stay serial scatters in particle order: results do not depend on the
-  // number of threads. (A gather per node in a fixed order threads them too, but reads each
+  // than it saves): the loops over particles and over nodes, and the transfers to the grid (mass,
+  // momentum, internal force), scattered by colours of cell layers (scatter): results do not depend
+  // on the number of threads. (A gather per node in a fixed order threads them too, but reads each
   // particle once per node: one core lost 26% on the 2D plate.)
   static constexpr int kThreadedParticles = 4096;
   using Material = typename Physics::Material;
@@ -97,14 +100,18 @@ class Mpm {
   // One step from t to t + dt. Allocation-free once the particle count is reached. Throws
   // ParticleOutsideGrid for a particle outside the grid, before any change at the start of the
   // step, or after the move that took it out.
+  // The transfers are fused: one scatter to the grid of mass, momentum and (USL, MUSL) internal
+  // force, one pass back to the particles of velocity, stress (USL, USF) and position.
   void step(ParticleSet& particles, double t, double dt, bool move_particles) {
+    const bool usf = variant_ == MpmVariant::usf, musl = variant_ == MpmVariant::musl;
     locate(particles);
-    project_mass_momentum(particles, vel_old_);
-    apply_velocity_bc(vel_old_, t, &load_work_);
-    if (variant_ == MpmVariant::usf) update_stress(particles, vel_old_, dt);
-
     force_.setZero(Dim, num_nodes_);
-    add_internal_force(particles);
+    project_mass_momentum(particles, vel_old_, !usf);
+    apply_velocity_bc(vel_old_, t, &load_work_);
+    if (usf) {  // the stress from v^n, then its force
+      to_particles(particles, dt, {.stress_from = &vel_old_});
+      scatter(particles.size(), [&](int p) { add_internal_force(particles, p); });
+    }
     loaded_nodes_.clear();
     add_traction(t);
     vel_new_.resize(Dim, num_nodes_);
@@ -115,16 +122,19 @@ class Mpm {
     for (const auto& [i, f] : loaded_nodes_)
       load_work_ += 0.5 * dt * f.dot(vel_old_.col(i) + vel_new_.col(i));
     apply_velocity_bc(vel_new_, t + dt, &load_work_);
-    update_particle_velocity(particles);
-
-    const NodalVectors* v = &vel_new_;
-    if (variant_ == MpmVariant::musl) {
-      project_mass_momentum(particles, vel_musl_);
-      apply_velocity_bc(vel_musl_, t + dt);
-      v = &vel_musl_;
+    if (!musl) {
+      to_particles(particles, dt,
+                   {.velocity = true,
+                    .stress_from = usf ? nullptr : &vel_new_,
+                    .move_with = move_particles ? &vel_new_ : nullptr});
+      return;
     }
-    if (variant_ != MpmVariant::usf) update_stress(particles, *v, dt);
-    if (move_particles) move(particles, *v, dt);
+    // MUSL: the new particle velocities projected again, then stress and move from them.
+    to_particles(particles, dt, {.velocity = true});
+    project_mass_momentum(particles, vel_musl_, false);
+    apply_velocity_bc(vel_musl_, t + dt);
+    to_particles(particles, dt,
+                 {.stress_from = &vel_musl_, .move_with = move_particles ? &vel_musl_ : nullptr});
   }
 
   // Energy the boundaries gave the body so far: work of the tractions on the nodal velocities
@@ -145,30 +155,23 @@ class Mpm {
   static void set_particle_velocity(ParticleSet& ps, int p, const Vec& v) {
     ps.state.col(p).template tail<Dim>() = v;
   }
-  // sigma += dt C : sym(grad v), with grad v from the nodal velocities v, then the physics'
-  // particle step (a constitutive correction) where it has one, as DGMPM's sweep does.
-  void update_stress(ParticleSet& ps, const NodalVectors& v, double dt) const {
-    const int np = ps.size();
-#pragma omp parallel for schedule(static) if (threaded(np))
-    for (int p = 0; p < np; ++p) {
-      Tensor grad = Tensor::Zero();  // (i, j): dv_i / dx_j
-      for (int a = 0; a < npc; ++a)
-        grad.noalias() += v.col(node_(a, p)) * grad_.template block<Dim, 1>(a * Dim, p).transpose();
-      auto q = ps.state.col(p);
-      Physics::add_stress_rate(q, grad, materials_[ps.material[p]], dt);
-      if constexpr (physics::ParticleStepPhysics<Physics>)
-        Physics::particle_step(q, ps.internal.col(p), materials_[ps.material[p]], dt);
-    }
+  // sigma += dt C : sym(grad v) at particle p, with grad v from the nodal velocities v, then the
+  // physics' particle step (a constitutive correction) where it has one, as DGMPM's sweep does.
+  void update_stress(ParticleSet& ps, int p, const NodalVectors& v, double dt) const {
+    Tensor grad = Tensor::Zero();  // (i, j): dv_i / dx_j
+    for (int a = 0; a < npc; ++a)
+      grad.noalias() += v.col(node_(a, p)) * grad_.template block<Dim, 1>(a * Dim, p).transpose();
+    auto q = ps.state.col(p);
+    Physics::add_stress_rate(q, grad, materials_[ps.material[p]], dt);
+    if constexpr (physics::ParticleStepPhysics<Physics>)
+      Physics::particle_step(q, ps.internal.col(p), materials_[ps.material[p]], dt);
   }
-  // f_i -= V_p sigma_p grad S_i(x_p).
-  void add_internal_force(const ParticleSet& ps) {
-    const int np = ps.size();
-    for (int p = 0; p < np; ++p) {
-      const Tensor vs =
-          ps.volume[p] * Physics::stress_tensor(ps.state.col(p), materials_[ps.material[p]]);
-      for (int a = 0; a < npc; ++a)
-        force_.col(node_(a, p)).noalias() -= vs * grad_.template block<Dim, 1>(a * Dim, p);
-    }
+  // f_i -= V_p sigma_p grad S_i(x_p) at the nodes of particle p.
+  void add_internal_force(const ParticleSet& ps, int p) {
+    const Tensor vs =
+        ps.volume[p] * Physics::stress_tensor(ps.state.col(p), materials_[ps.material[p]]);
+    for (int a = 0; a < npc; ++a)
+      force_.col(node_(a, p)).noalias() -= vs * grad_.template block<Dim, 1>(a * Dim, p);
   }
 
   // --- generic part ------------------------------------------------------------------------------
@@ -176,12 +179,47 @@ class Mpm {
     return np >= kThreadedParticles;
   }
 
-  // Nodes, shape values and gradients of every particle.
+  // Calls add(p) for every particle p, on threads where there are many, each node receiving its
+  // particles in the same order whatever their number. The layers of cells along the last axis
+  // (rows) are grouped into kScatterBlocks blocks of consecutive rows, coloured even and odd (and
+  // a periodic axis' last block alone when their count is odd: it shares nodes with block 0). Two
+  // blocks of a colour share no node, so a colour's blocks are split between the threads; a node
+  // receives a colour's particles from one block, in particle order.
+  static constexpr int kScatterBlocks = 64;
+  int scatter_blocks() const {
+    return std::min(grid_.cells[Dim - 1], kScatterBlocks);
+  }
+  template <class Add>
+  void scatter(int np, Add&& add) const {
+    const int blocks = scatter_blocks();
+    const bool wrap = grid_.periodic[Dim - 1] && blocks % 2 == 1 && blocks > 1;
+    const auto colour = [&](int block) { return wrap && block == blocks - 1 ? 2 : block % 2; };
+#pragma omp parallel if (threaded(np))
+    {
+      int thread = 0, team = 1;
+#ifdef _OPENMP
+      thread = omp_get_thread_num();
+      team = omp_get_num_threads();
+#endif
+      const int lo = blocks * thread / team, hi = blocks * (thread + 1) / team;
+      for (int c = 0; c < (wrap ? 3 : 2); ++c) {
+        for (int p = 0; p < np; ++p) {
+          const int block = block_[p];
+          if (block >= lo && block < hi && colour(block) == c) add(p);
+        }
+#pragma omp barrier
+      }
+    }
+  }
+
+  // Nodes, shape values and gradients of every particle, and its cell's block (scatter).
   void locate(const ParticleSet& ps) {
     const int np = ps.size();
     node_.resize(npc, np);
     shape_.resize(npc, np);
     grad_.resize(npc * Dim, np);
+    block_.resize(np);
+    const long rows = grid_.cells[Dim - 1], blocks = scatter_blocks();
     int outside = np;  // the first particle outside the grid
 #pragma omp parallel for schedule(static) reduction(min : outside) if (threaded(np))
     for (int p = 0; p < np; ++p) {
@@ -192,6 +230,7 @@ class Mpm {
         continue;
       }
       const auto k = grid_.unflatten(c);
+      block_[p] = static_cast<int>(k[Dim - 1] * blocks / rows);
       for (int a = 0; a < npc; ++a) node_(a, p) = node(k, a);
       shape_.col(p) = CellShape<Dim>::values(xi);
       const auto g = CellShape<Dim>::gradients(xi, grid_.cell_size);
@@ -200,12 +239,13 @@ class Mpm {
     if (outside < np) throw_outside_grid(ps, outside);
   }
 
-  // Lumped mass and nodal velocity p_i / m_i; zero on massless nodes.
-  void project_mass_momentum(const ParticleSet& ps, NodalVectors& v) {
+  // Lumped mass and nodal velocity p_i / m_i (zero on massless nodes), and with `force` the
+  // internal force, in one scatter.
+  void project_mass_momentum(const ParticleSet& ps, NodalVectors& v, bool force) {
     mass_.setZero(num_nodes_);
     v.setZero(Dim, num_nodes_);
     const int np = ps.size();
-    for (int p = 0; p < np; ++p) {
+    scatter(np, [&](int p) {
       const Vec vp = particle_velocity(ps, p);
       for (int a = 0; a < npc; ++a) {
         const int i = node_(a, p);
@@ -213,37 +253,45 @@ class Mpm {
         mass_[i] += w;
         v.col(i) += w * vp;
       }
-    }
+      if (force) add_internal_force(ps, p);
+    });
 #pragma omp parallel for schedule(static) if (threaded(np))
     for (int i = 0; i < num_nodes_; ++i)
       if (mass_[i] > 0.0) v.col(i) /= mass_[i];
   }
 
-  // FLIP adds the interpolated nodal velocity increment; PIC takes the interpolated velocity.
-  void update_particle_velocity(ParticleSet& ps) const {
+  // What to_particles does at each particle, in this order: the velocity update (FLIP adds the
+  // interpolated nodal velocity increment, PIC takes the interpolated velocity), the stress
+  // update from the nodal velocities `stress_from`, the move with `move_with` (none when null).
+  struct ToParticles {
+    bool velocity = false;
+    const NodalVectors* stress_from = nullptr;
+    const NodalVectors* move_with = nullptr;
+  };
+  // One pass over the particles. Throws ParticleOutsideGrid for the first particle moved out.
+  void to_particles(ParticleSet& ps, double dt, const ToParticles& what) const {
     const bool flip = update_ == MpmVelocityUpdate::flip;
-    const int np = ps.size();
-#pragma omp parallel for schedule(static) if (threaded(np))
-    for (int p = 0; p < np; ++p) {
-      Vec v = Vec::Zero();
-      for (int a = 0; a < npc; ++a) {
-        const int i = node_(a, p);
-        v += shape_(a, p) * (flip ? Vec(vel_new_.col(i) - vel_old_.col(i)) : Vec(vel_new_.col(i)));
-      }
-      set_particle_velocity(ps, p, flip ? Vec(particle_velocity(ps, p) + v) : v);
-    }
-  }
-
-  void move(ParticleSet& ps, const NodalVectors& v, double dt) const {
     const int np = ps.size();
     int outside = np;  // the first particle outside the grid
 #pragma omp parallel for schedule(static) reduction(min : outside) if (threaded(np))
     for (int p = 0; p < np; ++p) {
-      Vec vp = Vec::Zero();
-      for (int a = 0; a < npc; ++a) vp += shape_(a, p) * v.col(node_(a, p));
-      ps.position.col(p) += dt * vp;
-      Vec xi;
-      if (grid_.locate(ps.position.col(p), xi) < 0) outside = std::min(outside, p);
+      if (what.velocity) {
+        Vec v = Vec::Zero();
+        for (int a = 0; a < npc; ++a) {
+          const int i = node_(a, p);
+          v +=
+              shape_(a, p) * (flip ? Vec(vel_new_.col(i) - vel_old_.col(i)) : Vec(vel_new_.col(i)));
+        }
+        set_particle_velocity(ps, p, flip ? Vec(particle_velocity(ps, p) + v) : v);
+      }
+      if (what.stress_from) update_stress(ps, p, *what.stress_from, dt);
+      if (what.move_with) {
+        Vec vp = Vec::Zero();
+        for (int a = 0; a < npc; ++a) vp += shape_(a, p) * what.move_with->col(node_(a, p));
+        ps.position.col(p) += dt * vp;
+        Vec xi;
+        if (grid_.locate(ps.position.col(p), xi) < 0) outside = std::min(outside, p);
+      }
     }
     if (outside < np) throw_outside_grid(ps, outside);
   }
@@ -355,6 +403,7 @@ class Mpm {
   int num_nodes_ = 0;
 
   Eigen::Matrix<int, npc, Eigen::Dynamic> node_;
+  Eigen::VectorXi block_;  // the scatter block of the particle's cell
   Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
   Eigen::Matrix<double, npc * Dim, Eigen::Dynamic> grad_;  // row a * Dim + l: dS_a / dx_l
   Eigen::VectorXd mass_;

@@ -9,6 +9,7 @@
 #include <dgmpm/discretisation.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 
+#include <algorithm>
 #include <omp.h>
 #include <random>
 #include <vector>
@@ -147,5 +148,47 @@ BOOST_AUTO_TEST_CASE(a_threaded_build_equals_a_one_thread_build) {
   }
   BOOST_TEST(mixed > 1000);
   BOOST_TEST(one.first_overfull_cell() >= 0);
+  same(one, two, g, p.mass);
+}
+
+// The sort by cell on threads: particles in no order (each cell's drawn from anywhere in the
+// arrays), each thread counting and placing a range of them, give the one-thread build's cell
+// lists, each in increasing particle order.
+BOOST_AUTO_TEST_CASE(a_threaded_sort_gives_the_one_thread_order) {
+  std::mt19937 rng(11);
+  const Grid<2> g = grid(80, 60);
+  const std::vector<PlaneStrain::Material> materials{{2e11, 0.3, 7800}, {2e10, 0.25, 2000}};
+  const ParticleSet ordered = particles(g, materials, rng, true);
+  std::vector<int> order(ordered.size());
+  for (int n = 0; n < ordered.size(); ++n) order[n] = n;
+  std::shuffle(order.begin(), order.end(), rng);
+  ParticleSet p;
+  p.resize(ordered.size());
+  for (int n = 0; n < p.size(); ++n) {
+    p.position.col(n) = ordered.position.col(order[n]);
+    p.mass[n] = ordered.mass[order[n]];
+    p.volume[n] = ordered.volume[order[n]];
+    p.material[n] = ordered.material[order[n]];
+    p.id[n] = n;
+  }
+  BOOST_TEST_REQUIRE(p.size() >= Disc::kThreaded);  // the threaded build
+  Disc one, two;
+  omp_set_num_threads(1);
+  one.build(g, p, materials);
+  omp_set_num_threads(2);
+  two.build(g, p, materials);
+  BOOST_TEST(one.sorts() == 1);
+  BOOST_TEST(two.sorts() == 1);
+  int increasing = 0, pairs = 0, shared = 0;
+  for (int c = 0; c < g.num_cells(); ++c) {
+    for (int e = two.cell_begin(c) + 1; e < two.cell_end(c); ++e, ++pairs) {
+      increasing += two.entry_particle(e) > two.entry_particle(e - 1);
+      // a cell whose particles came from both halves of the arrays: both threads placed them
+      shared += two.entry_particle(e - 1) < p.size() / 2 && two.entry_particle(e) >= p.size() / 2;
+    }
+  }
+  BOOST_TEST(pairs > 1000);
+  BOOST_TEST(increasing == pairs);
+  BOOST_TEST(shared > 1000);
   same(one, two, g, p.mass);
 }

@@ -1,7 +1,7 @@
 // The step runs on OpenMP threads on large grids: one and two threads give the same particle
 // states bit for bit (1D and 2D, Euler and RK2, DCU and CTU, boundaries, periodic axes, void
 // cells, two materials, moving particles, the automatic time step; and the MPM baseline, USL, USF
-// and MUSL), and the threaded path is the one taken.
+// and MUSL, its scatters to the grid included), and the threaded path is the one taken.
 #define BOOST_TEST_MODULE solver_threads
 #include <boost/test/unit_test.hpp>
 
@@ -119,4 +119,18 @@ BOOST_AUTO_TEST_CASE(mpm_baseline) {
   same_on_one_and_two_threads<PlaneStrain>(
       mpm(test::periodic(plate("dcu", "euler", false, 2), {true, false}), "usl"),
       "2D MPM periodic along x");
+  // The scatters' colours on periodic last axes, the last block of cell layers beside the first
+  // (both holding particles): 1D, 64 blocks; 2D, 61 rows, each its own block, the last one in a
+  // colour of its own.
+  json ring = test::periodic(test::loaded_bar(5999, 1e-3, "euler", true), {true});
+  ring["bodies"][0]["box"]["min"] = {-0.1};
+  ring["bodies"][1]["box"]["max"] = {-0.1 + 5999 * 1e-3};
+  for (const char* variant : {"usl", "musl"})
+    same_on_one_and_two_threads<ElasticBar>(mpm(ring, variant),
+                                            std::string("1D MPM periodic, odd cells ") + variant);
+  same_on_one_and_two_threads<PlaneStrain>(
+      mpm(test::periodic(test::filled(test::loaded_plate(80, 61, 0.05, 2, "dcu", "euler", true)),
+                         {false, true}),
+          "usl"),
+      "2D MPM periodic along y, odd rows");
 }

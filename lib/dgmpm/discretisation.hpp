@@ -11,6 +11,9 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -65,9 +68,9 @@ class Discretisation {
   // at a damped first-stage state (dg_operator.hpp, project_and_advance). Below the share of a
   // cell's centred particle (1/4 in 2D, 1/2 in 1D), so regular layouts are never damped.
   static constexpr double stage_share = 0.2;
-  // Builds of this many cells or particles or more run on threads: the particles' cells, then the
-  // cells' values (each cell writes only its own); the sort by cell and the blends of mixed cells
-  // (in cell order) stay serial. The result does not depend on the number of threads.
+  // Builds of this many cells or particles or more run on threads: the particles' cells, the sort
+  // by cell, then the cells' values (each cell writes only its own); the blends of mixed cells (in
+  // cell order) stay serial. The result does not depend on the number of threads.
   static constexpr int kThreaded = 4096;
   static constexpr double overfull_tolerance = 1e-6;  // a fill above 1 + this is over-full
 
@@ -108,15 +111,23 @@ class Discretisation {
     if (outside < np) throw_outside_grid(particles, outside);
     if (!same_cells) {  // counting sort of the particles by cell
       ++sorts_;
-      // Ends of the cells' ranges, then filled from the back: each end moves down to its begin
-      // (no scratch array), particles in increasing order within a cell.
-      cell_begin_.assign(nc + 1, 0);
-      for (int p = 0; p < np; ++p) ++cell_begin_[particle_cell_[p] + 1];
-      for (int c = 0; c < nc; ++c) cell_begin_[c + 1] += cell_begin_[c];
       entries_.resize(np);
-      for (int p = np - 1; p >= 0; --p) entries_[--cell_begin_[particle_cell_[p] + 1]] = p;
-      for (int c = 0; c < nc; ++c) cell_begin_[c] = cell_begin_[c + 1];
-      cell_begin_[nc] = np;
+      int team = 1;
+#ifdef _OPENMP
+      if (threaded) team = omp_get_max_threads();
+#endif
+      if (team > 1) {
+        sort_on_threads(nc, np, team);
+      } else {
+        // Ends of the cells' ranges, then filled from the back: each end moves down to its begin
+        // (no scratch array), particles in increasing order within a cell.
+        cell_begin_.assign(nc + 1, 0);
+        for (int p = 0; p < np; ++p) ++cell_begin_[particle_cell_[p] + 1];
+        for (int c = 0; c < nc; ++c) cell_begin_[c + 1] += cell_begin_[c];
+        for (int p = np - 1; p >= 0; --p) entries_[--cell_begin_[particle_cell_[p] + 1]] = p;
+        for (int c = 0; c < nc; ++c) cell_begin_[c] = cell_begin_[c + 1];
+        cell_begin_[nc] = np;
+      }
     }
 
     node_mass_.setZero(grid.num_nodes());
@@ -289,6 +300,51 @@ class Discretisation {
   }
 
  private:
+  // The counting sort on up to `team` threads: each counts its contiguous range of particles per
+  // cell; within each cell the threads' ranges follow each other in thread order; each thread
+  // places its particles in order. The serial sort's order: increasing within a cell.
+  void sort_on_threads(int nc, int np, int team) {
+    cell_begin_.resize(nc + 1);
+    sort_counts_.assign(static_cast<std::size_t>(team) * nc, 0);
+    sort_blocks_.assign(team + 1, 0);
+#pragma omp parallel num_threads(team)
+    {
+      int t = 0, n = 1;
+#ifdef _OPENMP
+      t = omp_get_thread_num();
+      n = omp_get_num_threads();
+#endif
+      const auto count = [&](int u, int c) -> int& {
+        return sort_counts_[static_cast<std::size_t>(u) * nc + c];
+      };
+      const int p0 = static_cast<int>(static_cast<long>(np) * t / n);
+      const int p1 = static_cast<int>(static_cast<long>(np) * (t + 1) / n);
+      const int c0 = static_cast<int>(static_cast<long>(nc) * t / n);
+      const int c1 = static_cast<int>(static_cast<long>(nc) * (t + 1) / n);
+      for (int p = p0; p < p1; ++p) ++count(t, particle_cell_[p]);
+#pragma omp barrier
+      int total = 0;  // the particles of this thread's cells
+      for (int c = c0; c < c1; ++c)
+        for (int u = 0; u < n; ++u) total += count(u, c);
+      sort_blocks_[t + 1] = total;
+#pragma omp barrier
+#pragma omp single
+      for (int u = 0; u < n; ++u) sort_blocks_[u + 1] += sort_blocks_[u];
+      int next = sort_blocks_[t];  // counts become each thread's first place in each cell
+      for (int c = c0; c < c1; ++c) {
+        cell_begin_[c] = next;
+        for (int u = 0; u < n; ++u) {
+          const int here = count(u, c);
+          count(u, c) = next;
+          next += here;
+        }
+      }
+#pragma omp barrier
+      for (int p = p0; p < p1; ++p) entries_[count(t, particle_cell_[p])++] = p;
+    }
+    cell_begin_[nc] = np;
+  }
+
   // A massless node (every particle of its cell on the far side) takes no part in the update.
   // Its value is that of the nearest node with mass in the same cell and its residual is added
   // to that node: for Euler the limit of a vanishing nodal mass; conservative in any case. A node
@@ -347,6 +403,7 @@ class Discretisation {
   std::vector<int> particle_cell_;
   Eigen::Matrix<double, dim, Eigen::Dynamic> local_;
   std::vector<int> cell_begin_, entries_;
+  std::vector<int> sort_counts_, sort_blocks_;  // sort_on_threads' counts: per thread, per cell
   Eigen::VectorXd node_mass_, inv_mass_;
   std::vector<signed char> source_corner_;
   typename Grid<dim>::Vec cell_size_ = Grid<dim>::Vec::Ones();
