@@ -16,12 +16,10 @@
 #include <dgmpm/physics/elastic_bar.hpp>
 #include <dgmpm/physics/plane_strain.hpp>
 #include <dgmpm/shape_functions.hpp>
+#include <dgmpm/thread_share.hpp>
 
 #include <Eigen/Core>
 #include <algorithm>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 #include <array>
 #include <sstream>
 #include <utility>
@@ -196,16 +194,11 @@ class Mpm {
     const auto colour = [&](int block) { return wrap && block == blocks - 1 ? 2 : block % 2; };
 #pragma omp parallel if (threaded(np))
     {
-      int thread = 0, team = 1;
-#ifdef _OPENMP
-      thread = omp_get_thread_num();
-      team = omp_get_num_threads();
-#endif
-      const int lo = blocks * thread / team, hi = blocks * (thread + 1) / team;
+      const Share mine = thread_share(blocks, team_place());
       for (int c = 0; c < (wrap ? 3 : 2); ++c) {
         for (int p = 0; p < np; ++p) {
           const int block = block_[p];
-          if (block >= lo && block < hi && colour(block) == c) add(p);
+          if (block >= mine.begin && block < mine.end && colour(block) == c) add(p);
         }
 #pragma omp barrier
       }

@@ -21,6 +21,7 @@
 #include "faces.hpp"
 #include "grid.hpp"
 #include "physics/contract.hpp"
+#include "thread_share.hpp"
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -402,14 +403,11 @@ class DGOperator {
     bool finite = true;
 #pragma omp parallel num_threads(threads) if (threads > 1) reduction(&& : finite)
     {
-      int thread = 0, team = 1;
-#ifdef _OPENMP
-      thread = omp_get_thread_num();
-      team = omp_get_num_threads();
-#endif
+      const TeamPlace place = team_place();
+      const Share share = thread_share(n, place);
       Sweep sweep;
-      sweep.begin = static_cast<int>(static_cast<long>(n) * thread / team);
-      sweep.end = static_cast<int>(static_cast<long>(n) * (thread + 1) / team);
+      sweep.begin = share.begin;
+      sweep.end = share.end;
       [[maybe_unused]] const auto before = [&](const auto& a) {
         const int head = std::min(sweep.begin + a.lead, sweep.end);
         for (int c = sweep.begin; c < head; ++c) a.work(c);
@@ -417,7 +415,7 @@ class DGOperator {
 #pragma omp barrier
       };
       (before(ahead), ...);
-      State* slots = star_cache_.data() + per_thread * thread;
+      State* slots = star_cache_.data() + per_thread * place.thread;
       for (int l = 0; l < dim; ++l) {
         sweep.stars[l] = slots;
         slots += faces_.stride(l);

@@ -7,6 +7,7 @@
 #include "grid.hpp"
 #include "particles.hpp"
 #include "shape_functions.hpp"
+#include "thread_share.hpp"
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -309,29 +310,23 @@ class Discretisation {
     sort_blocks_.assign(team + 1, 0);
 #pragma omp parallel num_threads(team)
     {
-      int t = 0, n = 1;
-#ifdef _OPENMP
-      t = omp_get_thread_num();
-      n = omp_get_num_threads();
-#endif
+      const TeamPlace place = team_place();
+      const int t = place.thread, n = place.team;
       const auto count = [&](int u, int c) -> int& {
         return sort_counts_[static_cast<std::size_t>(u) * nc + c];
       };
-      const int p0 = static_cast<int>(static_cast<long>(np) * t / n);
-      const int p1 = static_cast<int>(static_cast<long>(np) * (t + 1) / n);
-      const int c0 = static_cast<int>(static_cast<long>(nc) * t / n);
-      const int c1 = static_cast<int>(static_cast<long>(nc) * (t + 1) / n);
-      for (int p = p0; p < p1; ++p) ++count(t, particle_cell_[p]);
+      const Share particles = thread_share(np, place), cells = thread_share(nc, place);
+      for (int p = particles.begin; p < particles.end; ++p) ++count(t, particle_cell_[p]);
 #pragma omp barrier
       int total = 0;  // the particles of this thread's cells
-      for (int c = c0; c < c1; ++c)
+      for (int c = cells.begin; c < cells.end; ++c)
         for (int u = 0; u < n; ++u) total += count(u, c);
       sort_blocks_[t + 1] = total;
 #pragma omp barrier
 #pragma omp single
       for (int u = 0; u < n; ++u) sort_blocks_[u + 1] += sort_blocks_[u];
       int next = sort_blocks_[t];  // counts become each thread's first place in each cell
-      for (int c = c0; c < c1; ++c) {
+      for (int c = cells.begin; c < cells.end; ++c) {
         cell_begin_[c] = next;
         for (int u = 0; u < n; ++u) {
           const int here = count(u, c);
@@ -340,7 +335,8 @@ class Discretisation {
         }
       }
 #pragma omp barrier
-      for (int p = p0; p < p1; ++p) entries_[count(t, particle_cell_[p])++] = p;
+      for (int p = particles.begin; p < particles.end; ++p)
+        entries_[count(t, particle_cell_[p])++] = p;
     }
     cell_begin_[nc] = np;
   }
