@@ -243,6 +243,9 @@ class Simulation final : public SimulationBase {
     long checkpoint_step = -1;                           // step of the last checkpoint
   };
   Progress progress_;
+  // energy_parts' sums per block of kEnergyBlock particles (kept: no allocation per step).
+  static constexpr int kEnergyBlock = 16384;
+  mutable std::vector<Energy> energy_blocks_;
   std::optional<RunSummary> last_summary_;
   std::string restored_from_;  // the checkpoint a restart began at
   std::string restored_directory_;

@@ -13,7 +13,9 @@
 #include <nlohmann/json.hpp>
 #include <omp.h>
 
+#include <cmath>
 #include <string>
+#include <tuple>
 
 using namespace dgmpm;
 using nlohmann::json;
@@ -133,4 +135,33 @@ BOOST_AUTO_TEST_CASE(mpm_baseline) {
                          {false, true}),
           "usl"),
       "2D MPM periodic along y, odd rows");
+}
+
+// The energies the history records every step are summed on threads over fixed blocks of
+// particles: the same bits on one and two threads, and the kinetic energy that of a serial sum
+// over the particles here (to round-off: the blocks regroup the sum).
+BOOST_AUTO_TEST_CASE(energy_sums) {
+  const json doc = test::loaded_plate(140, 90, 0.03, 2, "dcu", "euler", true);  // 3 blocks
+  const auto energy = [&](int threads) {
+    omp_set_num_threads(threads);
+    Simulation<PlaneStrain> sim(scene::parse_scene(doc, "threads"));
+    for (int k = 0; k < 12; ++k) sim.step(sim.stable_time_step());
+    const auto& p = sim.particles();
+    double kinetic = 0;
+    for (int i = 0; i < p.size(); ++i)
+      kinetic += 0.5 * p.mass[i] *
+                 (p.state(PlaneStrain::vx, i) * p.state(PlaneStrain::vx, i) +
+                  p.state(PlaneStrain::vy, i) * p.state(PlaneStrain::vy, i));
+    BOOST_TEST_REQUIRE(p.size() > 16384);
+    return std::make_tuple(sim.energy_parts(), kinetic, p.size());
+  };
+  const auto [one, serial, n] = energy(1);
+  const auto [two, serial_two, n_two] = energy(2);
+  BOOST_TEST(serial > 0.0);
+  BOOST_TEST(serial == serial_two);  // the same particle states
+  BOOST_TEST(one.kinetic == two.kinetic);
+  BOOST_TEST(one.elastic == two.elastic);
+  BOOST_TEST(one.elastic > 0.0);
+  // Positive terms: each order's relative error is below n eps.
+  BOOST_TEST(std::abs(one.kinetic - serial) <= 2.0 * n * 1.2e-16 * serial);
 }
