@@ -175,15 +175,20 @@ class DGOperator {
 
   // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns),
   // `mass` the particles' masses.
+  // With few particles (Discretisation::rank_one_cheaper) the products are summed particle by
+  // particle without forming K^l.
   template <class Block>
   void add_volume_term(int c, const Block& q, const Eigen::VectorXd& mass, CellBlock& rc) const {
     const auto& mat = disc_.cell_material(c);
-    const auto stiffness = disc_.stiffness(c, mass);
-    CellBlock flux;
-    for (int l = 0; l < dim; ++l) {
-      for (int a = 0; a < npc; ++a) flux.col(a) = Physics::specific_flux(l, q.col(a), mat);
-      rc.noalias() += flux * stiffness[l].transpose();
+    std::array<CellBlock, dim> flux;
+    for (int l = 0; l < dim; ++l)
+      for (int a = 0; a < npc; ++a) flux[l].col(a) = Physics::specific_flux(l, q.col(a), mat);
+    if (Disc::template rank_one_cheaper<ncomp>(disc_.cell_end(c) - disc_.cell_begin(c))) {
+      disc_.add_stiffness_products(c, mass, flux, rc);
+      return;
     }
+    const auto stiffness = disc_.stiffness(c, mass);
+    for (int l = 0; l < dim; ++l) rc.noalias() += flux[l] * stiffness[l].transpose();
   }
 
   // Star state of face f along l from the edge states of its sides (a boundary state where one
