@@ -234,16 +234,10 @@ class Discretisation {
   std::array<Stiffness, dim> stiffness(int c, const Eigen::VectorXd& mass) const {
     std::array<Stiffness, dim> k;
     for (auto& kl : k) kl.setZero();
-    typename Shape::Values share = Shape::Values::Zero();
-    double cell = 0.0;
-    for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
-      const int p = entries_[e];
-      const auto s = Shape::values(local_.col(p));
-      const auto g = Shape::gradients(local_.col(p), cell_size_);
-      for (int l = 0; l < dim; ++l) k[l] += mass[p] * g.row(l).transpose() * s.transpose();
-      share += mass[p] * s;
-      cell += mass[p];
-    }
+    typename Shape::Values share;
+    const double cell = visit_shapes(c, mass, share, [&](double m, const auto& s, const auto& g) {
+      for (int l = 0; l < dim; ++l) k[l] += m * g.row(l).transpose() * s.transpose();
+    });
     if (formulation_ == Formulation::consistent && cell > 0.0) make_consistent(c, share / cell, k);
     return k;
   }
@@ -257,27 +251,37 @@ class Discretisation {
                               Out& rc) const {
     std::array<typename Shape::Values, dim> row_sums;  // K^l 1
     for (auto& r : row_sums) r.setZero();
-    typename Shape::Values share = Shape::Values::Zero();
-    double cell = 0.0;
-    for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
-      const int p = entries_[e];
-      const auto s = Shape::values(local_.col(p));
-      const auto g = Shape::gradients(local_.col(p), cell_size_);
+    typename Shape::Values share;
+    const double cell = visit_shapes(c, mass, share, [&](double m, const auto& s, const auto& g) {
       const double sum = s.sum();
       for (int l = 0; l < dim; ++l) {
-        const Eigen::Matrix<double, NComp, 1> at = mass[p] * (flux[l] * s);
+        const Eigen::Matrix<double, NComp, 1> at = m * (flux[l] * s);
         rc.noalias() += at * g.row(l);
-        row_sums[l] += (mass[p] * sum) * g.row(l).transpose();
+        row_sums[l] += (m * sum) * g.row(l).transpose();
       }
-      share += mass[p] * s;
-      cell += mass[p];
-    }
+    });
     if (formulation_ != Formulation::consistent || cell <= 0.0) return;
     const typename Shape::Values u = share / cell;
     for (int l = 0; l < dim; ++l) {
       typename Shape::Values d;
       if (consistency_defect(c, l, row_sums[l], d)) rc.noalias() += (flux[l] * u) * d.transpose();
     }
+  }
+  // f(m_p, S(x_p), grad S(x_p)) for each particle p of cell c, in order; returns the cell's mass
+  // and sets `share` to sum_p m_p S(x_p).
+  template <class F>
+  double visit_shapes(int c, const Eigen::VectorXd& mass, typename Shape::Values& share,
+                      F&& f) const {
+    share.setZero();
+    double cell = 0.0;
+    for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
+      const int p = entries_[e];
+      const auto s = Shape::values(local_.col(p));
+      f(mass[p], s, Shape::gradients(local_.col(p), cell_size_));
+      share += mass[p] * s;
+      cell += mass[p];
+    }
+    return cell;
   }
   // Whether the K^l products are cheaper without forming K^l (add_stiffness_products) for a cell
   // of n particles: n dim 2 ncomp npc multiply-adds against n dim npc^2 + dim ncomp npc^2. Not in
