@@ -183,7 +183,7 @@ class DGOperator {
     std::array<CellBlock, dim> flux;
     for (int l = 0; l < dim; ++l)
       for (int a = 0; a < npc; ++a) flux[l].col(a) = Physics::specific_flux(l, q.col(a), mat);
-    if (Disc::template rank_one_cheaper<ncomp>(disc_.cell_end(c) - disc_.cell_begin(c))) {
+    if (Disc::rank_one_cheaper(disc_.cell_end(c) - disc_.cell_begin(c))) {
       disc_.add_stiffness_products(c, mass, flux, rc);
       return;
     }

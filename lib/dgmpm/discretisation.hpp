@@ -269,9 +269,11 @@ class Discretisation {
   }
   // f(m_p, S(x_p), grad S(x_p)) for each particle p of cell c, in order; returns the cell's mass
   // and sets `share` to sum_p m_p S(x_p).
+  // (Forced inline: left to the compiler, the 2D step at one particle per cell executed 8% more
+  // instructions.)
   template <class F>
-  double visit_shapes(int c, const Eigen::VectorXd& mass, typename Shape::Values& share,
-                      F&& f) const {
+  [[gnu::always_inline]] inline double visit_shapes(int c, const Eigen::VectorXd& mass,
+                                                    typename Shape::Values& share, F&& f) const {
     share.setZero();
     double cell = 0.0;
     for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
@@ -283,14 +285,16 @@ class Discretisation {
     }
     return cell;
   }
-  // Whether the K^l products are cheaper without forming K^l (add_stiffness_products) for a cell
-  // of n particles: n dim 2 ncomp npc multiply-adds against n dim npc^2 + dim ncomp npc^2. Not in
-  // 1D, where the matrices are 2 x 2: there the sums executed more instructions than forming K
-  // (callgrind, bench/count_flops.py: 1D Euler 558 -> 580 per particle-step; 2D DCU Euler at one
-  // particle per cell 2421 -> 2114).
-  template <int NComp>
+  // Whether the K^l products are taken without forming K^l (add_stiffness_products) for a cell
+  // of n particles: a single particle in 2D and 3D, where dim 2 ncomp npc multiply-adds are fewer
+  // than dim npc^2 + dim ncomp npc^2 for any ncomp (callgrind, bench/count_flops.py: 2D DCU
+  // Euler at one particle per cell, 2421 -> 2127 instructions per particle-step). Not in 1D,
+  // where the matrices are 2 x 2 and the sums executed more instructions (558 -> 580). Not for
+  // two or three particles either, though the count favours them in plane strain: there the
+  // sums' round-off moved the admissible Courant number of a two-particle layout by 3e-5 (a
+  // limit set by a marginal long-wave mode; tests/stability_two_dimensions.cpp).
   static constexpr bool rank_one_cheaper(int n) {
-    return dim > 1 && n * (2 * NComp - npc) < NComp * npc;
+    return dim > 1 && n == 1;
   }
   double node_mass(int i) const {
     return node_mass_[i];
