@@ -1,8 +1,9 @@
 // The volume term's products with the pseudo-stiffness, sum_l F_l K^l^T, are summed particle by
-// particle without forming K^l in cells of few particles (Discretisation::add_stiffness_products).
-// They must equal the products with the matrices stiffness() forms, to round-off: 1D and 2D, one
-// to three particles per cell at random places and masses (part-full and over-full cells, whose
-// consistency correction is not zero), both formulations, random fluxes.
+// particle without forming K^l in 2D cells of one particle
+// (Discretisation::add_stiffness_products). The sums must equal the products with the matrices
+// stiffness() forms, to round-off: 1D and 2D, one to three particles per cell at random places
+// and masses (part-full and over-full cells, whose consistency correction is not zero), both
+// formulations, random fluxes.
 #define BOOST_TEST_MODULE volume_term
 #include <boost/test/unit_test.hpp>
 

@@ -175,8 +175,8 @@ class DGOperator {
 
   // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns),
   // `mass` the particles' masses.
-  // With few particles (Discretisation::rank_one_cheaper) the products are summed particle by
-  // particle without forming K^l.
+  // A 2D cell of one particle (Discretisation::rank_one_cheaper) sums the products without
+  // forming K^l.
   template <class Block>
   void add_volume_term(int c, const Block& q, const Eigen::VectorXd& mass, CellBlock& rc) const {
     const auto& mat = disc_.cell_material(c);

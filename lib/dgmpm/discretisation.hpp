@@ -243,8 +243,8 @@ class Discretisation {
   }
   // rc += sum_l F_l K^l^T (F_l: npc columns of fluxes along l) without forming K^l: the sum over
   // the cell's particles of m_p (F_l S_p) (grad_l S_p)^T, plus the consistency correction
-  // (F_l u) d_l^T of make_consistent. Fewer operations than stiffness() and the products when
-  // the cell holds few particles (rank_one_cheaper); equal to them to round-off.
+  // (F_l u) d_l^T of make_consistent. Fewer operations than stiffness() and the products for a
+  // single particle in 2D (rank_one_cheaper); equal to them to round-off.
   template <int NComp, class Out>
   void add_stiffness_products(int c, const Eigen::VectorXd& mass,
                               const std::array<Eigen::Matrix<double, NComp, npc>, dim>& flux,
