@@ -221,9 +221,10 @@ class DGOperator {
   // CTU: the correction of face g's star state (g normal to t): each fluctuation w that entered
   // one of g's cells through a face normal to another axis sends transverse waves across g, split
   // in the media of g's two sides (transverse_medium, each taken once). Against a boundary (grid
-  // side or void cell) the mirror image of the cell sends its part back in. Reads only the
-  // fluctuations entering g's occupied cells, and (physics whose waves depend on the state) their
-  // edge states at g.
+  // side or void cell) the mirror image of the cell sends its part back in. The split is linear
+  // in w (physics::CornerTransport): a cell's entering fluctuations are summed and split once.
+  // Reads only the fluctuations entering g's occupied cells, and (physics whose waves depend on
+  // the state) their edge states at g.
   [[gnu::always_inline]] inline State transverse_correction(int t, int g, const FaceFluctuations& w,
                                                             const NodalField& qn) const
       requires(corner_transport) {
@@ -238,25 +239,19 @@ class DGOperator {
       const int c = up ? gm : gp;
       if (!(up ? occupied_minus : occupied_plus)) continue;
       const auto& here = up ? minus : plus;
-      const auto add = [&](const auto& across) {
-        for (int l = 0; l < dim; ++l) {
-          if (l == t) continue;
-          for (int side = 0; side < 2; ++side) {
-            // c's face on `side` along l; c is its plus cell when it is c's lower face.
-            const int f = faces_.of_cell(l, c, side);
-            correction -= across(w[l].col(2 * f + (side == 0)));
-          }
+      State entering = State::Zero();
+      for (int l = 0; l < dim; ++l) {
+        if (l == t) continue;
+        for (int side = 0; side < 2; ++side) {
+          // c's face on `side` along l; c is its plus cell when it is c's lower face.
+          const int f = faces_.of_cell(l, c, side);
+          entering += w[l].col(2 * f + (side == 0));
         }
-      };
-      if (up ? occupied_plus : occupied_minus) {
-        const auto& there = up ? plus : minus;
-        add([&](const State& wf) { return Physics::transverse(t, wf, here, there, up); });
-      } else {
-        const BoundaryKind kind = boundary_.kind(t, g);
-        add([&](const State& wf) {
-          return Physics::transverse_at_boundary(kind, t, wf, here, up);
-        });
       }
+      if (up ? occupied_plus : occupied_minus)
+        correction -= Physics::transverse(t, entering, here, up ? plus : minus, up);
+      else
+        correction -= Physics::transverse_at_boundary(boundary_.kind(t, g), t, entering, here, up);
     }
     return correction;
   }
@@ -363,16 +358,20 @@ class DGOperator {
   // CTU body reads the faces of its cell and of its face neighbours (a wrap along another axis
   // included: less than `reach` away), each owned by its plus cell: less than 2 reach from it,
   // ahead or behind; a face reads the cells within reach of its owner.
+  // (The per-cell work is flattened: every call in it inlined, the physics' Riemann solver, fluxes
+  // and fluctuations included, which the compiler otherwise left as calls with the axis a
+  // variable. Callgrind, instructions per particle-step: 1D Euler 557 -> 524, 2D DCU Euler at one
+  // particle per cell 2127 -> 2089, CTU Euler 4075 -> 3342.)
   template <class Finish>
   bool advance(const Projection& projection, const Eigen::VectorXd& mass, const NodalField& from,
                double t, double dt, Finish&& finish) const {
-    const auto project_one = [&](int c) {
+    const auto project_one = [&](int c) __attribute__((flatten)) {
       if (disc_.occupied(c))
         project_cell(c, *projection.qp, mass, projection.q->template middleCols<npc>(c * npc));
     };
     const int reach = faces_.stride(dim - 1);
     if (scheme_ == FluxScheme::dcu) {
-      const auto body = [&](int c, Sweep& sweep) {
+      const auto body = [&](int c, Sweep& sweep) __attribute__((flatten)) {
         CellBlock out;
         advance_cell<FluxScheme::dcu>(c, from, mass, t, dt, sweep, out);
         finish(c, out, sweep);
@@ -381,12 +380,14 @@ class DGOperator {
       return sweep_cells(body, ahead(reach, reach, project_one));
     }
     if constexpr (corner_transport) {
-      const auto body = [&](int c, Sweep& sweep) {
+      const auto body = [&](int c, Sweep& sweep) __attribute__((flatten)) {
         CellBlock out;
         advance_cell<FluxScheme::ctu>(c, from, mass, t, dt, sweep, out);
         finish(c, out, sweep);
       };
-      const auto faces = [&](int c) { own_faces(c, from, t, dt); };
+      const auto faces = [&](int c) __attribute__((flatten)) {
+        own_faces(c, from, t, dt);
+      };
       if (!projection.qp) return sweep_cells(body, ahead(2 * reach, 2 * reach, faces));
       return sweep_cells(body, ahead(3 * reach, 3 * reach, project_one),
                          ahead(2 * reach, 2 * reach, faces));

@@ -64,7 +64,9 @@ concept ConservationLaw = requires(const typename P::State& q, const typename P:
 // CTU in 2D: the fluctuations entering a cell, their transverse split and what a boundary does to
 // a transverse wave. The split is linearised in a "medium" per cell side of the crossed face: the
 // cell's material, or, where the waves depend on the state (finite strain), what
-// `transverse_medium(axis, q, m)` makes of the cell's edge state q there.
+// `transverse_medium(axis, q, m)` makes of the cell's edge state q there. `transverse` and
+// `transverse_at_boundary` must be linear in the fluctuation: the operator splits the sum of the
+// fluctuations entering a cell once (tests/lib_transverse_linearity.cpp).
 template <class P>
 concept StateDependentTransverse = requires(const typename P::State& q,
                                             const typename P::Material& m, int axis) {

@@ -193,13 +193,13 @@ struct PlaneStrain {
 
   // --- CTU -----------------------------------------------------------------------------------
   // A^-dq = F(q*) - F(q-) (side 0) or A^+dq = F(q+) - F(q*) (side 1) with the entered cell's
-  // moduli, momentum rows turned into velocity rates with its density.
+  // moduli, momentum rows turned into velocity rates with its density. F is linear: one flux of
+  // the difference.
   static State fluctuation(int axis, const State& star, const State& q, const Material& m,
                            int side) {
-    const State s = physical(q, m);
-    State w = side ? State(flux(axis, s, m) - flux(axis, star, m))
-                   : State(flux(axis, star, m) - flux(axis, s, m));
-    w.tail<2>() /= m.density;
+    const State jump = side ? State(physical(q, m) - star) : State(star - physical(q, m));
+    State w = flux(axis, jump, m);
+    w.tail<2>() *= m.inverse_density();
     return w;
   }
 
