@@ -142,37 +142,35 @@ class Halo {
                                  std::to_string(sub_.rank()));
     }
     exchange();
-    // The new local set: every record, owned particles first, each part in global order.
-    struct Entry {
-      long global;
-      const double* record;
-    };
-    std::vector<Entry> owned, ghosts;
+    // The new local set: every record, owned particles first, each part in global order. Built
+    // in the set the previous step left (next_): when the count is unchanged, as on most steps,
+    // nothing is allocated.
+    owned_entries_.clear();
+    ghost_entries_.clear();
     const auto sort_in = [&](const std::vector<double>& buffer) {
       for (std::size_t e = 0; e < buffer.size(); e += width) {
         const double* r = buffer.data() + e;
         Eigen::Map<const Eigen::Matrix<double, Dim, 1>> x(r + 1 + ParticleSet::record_position);
         sub_.locate(x, k);
-        (sub_.owns(k) ? owned : ghosts).push_back({static_cast<long>(r[0]), r});
+        (sub_.owns(k) ? owned_entries_ : ghost_entries_).push_back({static_cast<long>(r[0]), r});
       }
     };
     sort_in(kept_);
     for (const auto& buffer : in_) sort_in(buffer);
     const auto by_global = [](const Entry& a, const Entry& b) { return a.global < b.global; };
-    std::sort(owned.begin(), owned.end(), by_global);
-    std::sort(ghosts.begin(), ghosts.end(), by_global);
-    const int n = static_cast<int>(owned.size() + ghosts.size());
-    ParticleSet next;
-    next.tracks_reference = p.tracks_reference;
-    next.resize(n);
+    std::sort(owned_entries_.begin(), owned_entries_.end(), by_global);
+    std::sort(ghost_entries_.begin(), ghost_entries_.end(), by_global);
+    const int n = static_cast<int>(owned_entries_.size() + ghost_entries_.size());
+    next_.tracks_reference = p.tracks_reference;
+    next_.resize(n);
     global_.resize(n);
-    owned_ = static_cast<int>(owned.size());
+    owned_ = static_cast<int>(owned_entries_.size());
     for (int i = 0; i < n; ++i) {
-      const Entry& e = i < owned_ ? owned[i] : ghosts[i - owned_];
+      const Entry& e = i < owned_ ? owned_entries_[i] : ghost_entries_[i - owned_];
       global_[i] = e.global;
-      next.read_record(i, e.record + 1);
+      next_.read_record(i, e.record + 1);
     }
-    p = std::move(next);
+    std::swap(p, next_);  // Eigen's and std's moves swap buffers: no copy, no allocation
   }
 
   // A restart: `p` holds this rank's owned particles (in the serial order, `global` their serial
@@ -230,6 +228,13 @@ class Halo {
   std::vector<std::vector<int>> send_, receive_;  // fixed particles: local indices per partner
   std::vector<std::vector<double>> out_, in_;
   std::vector<double> kept_;
+  // Moving particles: the records of the new local set, and the set the last migration replaced.
+  struct Entry {
+    long global;
+    const double* record;
+  };
+  std::vector<Entry> owned_entries_, ghost_entries_;
+  ParticleSet next_;
   Traffic traffic_;
 };
 
