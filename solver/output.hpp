@@ -3,6 +3,7 @@
 // when complete, so a reader never sees half a file; the temporary file is removed on every
 // failure path and when SIGINT or SIGTERM ends the process.
 
+#include <charconv>
 #include <cstdint>
 #include <fstream>
 #include <functional>
@@ -15,6 +16,15 @@ namespace dgmpm::output {
 // Writes `path` through `fill` (a stream on a temporary file), then renames. Throws
 // std::runtime_error naming the path when the file cannot be written.
 void write_atomically(const std::string& path, const std::function<void(std::ostream&)>& fill);
+
+// Writes x as a stream of precision 17 does (printf's %.17g, the same bytes) without the stream's
+// locale machinery: a particle table is millions of numbers, and the formatting was most of an
+// MPM run's instructions when it wrote one.
+inline void write_number(std::ostream& out, double x) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, x, std::chars_format::general, 17).ptr;
+  out.write(text, end - text);
+}
 
 // 64-bit FNV-1a, fed incrementally (checkpoints and the histories they record).
 struct Fnv1a {

@@ -321,8 +321,13 @@ void Simulation<Physics>::write_particles(const std::string& path) const {
     for (Eigen::Index i = 0; i < table.cols(); ++i) {
       out << static_cast<long>(table(0, i));
       for (int r = 1; r < table.rows(); ++r)
-        if (dim > 1 || r != kVolume) out << ',' << table(r, i);  // 1D rows have no volume
-      out << ',' << time_ << '\n';
+        if (dim > 1 || r != kVolume) {  // 1D rows have no volume
+          out.put(',');
+          output::write_number(out, table(r, i));
+        }
+      out.put(',');
+      output::write_number(out, time_);
+      out.put('\n');
     }
   });
 }

@@ -130,8 +130,10 @@ void write_points(const std::string& path, const Eigen::MatrixXd& positions,
           "Float64",
           " Name=\"" + d.name + "\" NumberOfComponents=\"" + std::to_string(d.components) + "\"",
           [&](std::ostream& o) {
-            for (std::size_t k = 0; k < d.values.size(); ++k)
-              o << d.values[k] << ((k + 1) % static_cast<std::size_t>(d.components) ? ' ' : '\n');
+            for (std::size_t k = 0; k < d.values.size(); ++k) {
+              output::write_number(o, d.values[k]);
+              o.put((k + 1) % static_cast<std::size_t>(d.components) ? ' ' : '\n');
+            }
           },
           [&](Block& b) {
             for (double v : d.values) append(b, v);
@@ -145,7 +147,10 @@ void write_points(const std::string& path, const Eigen::MatrixXd& positions,
         "Float64", " NumberOfComponents=\"3\"",
         [&](std::ostream& o) {
           for (Eigen::Index i = 0; i < n; ++i)
-            for (int k = 0; k < 3; ++k) o << coordinate(i, k) << (k < 2 ? ' ' : '\n');
+            for (int k = 0; k < 3; ++k) {
+              output::write_number(o, coordinate(i, k));
+              o.put(k < 2 ? ' ' : '\n');
+            }
         },
         [&](Block& b) {
           for (Eigen::Index i = 0; i < n; ++i)
