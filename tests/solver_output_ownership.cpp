@@ -231,8 +231,7 @@ BOOST_AUTO_TEST_CASE(numbers_are_written_as_a_stream_writes_them) {
     if (std::isfinite(x)) values.push_back(x);
   }
   std::ostringstream streamed, formatted;
-  streamed.precision(17);
-  formatted.precision(17);
+  streamed.precision(17);  // as output::write_atomically's files
   for (double x : values) {
     streamed << x << ',';
     output::write_number(formatted, x);
