@@ -213,6 +213,7 @@ class Mpm {
     grad_.resize(npc * Dim, np);
     block_.resize(np);
     const long rows = grid_.cells[Dim - 1], blocks = scatter_blocks();
+    const Vec inverse_h = grid_.cell_size.cwiseInverse();
     int outside = np;  // the first particle outside the grid
 #pragma omp parallel for schedule(static) reduction(min : outside) if (threaded(np))
     for (int p = 0; p < np; ++p) {
@@ -226,7 +227,7 @@ class Mpm {
       block_[p] = static_cast<int>(k[Dim - 1] * blocks / rows);
       for (int a = 0; a < npc; ++a) node_(a, p) = node(k, a);
       shape_.col(p) = CellShape<Dim>::values(xi);
-      const auto g = CellShape<Dim>::gradients(xi, grid_.cell_size);
+      const auto g = CellShape<Dim>::gradients(xi, inverse_h);
       for (int a = 0; a < npc; ++a) grad_.template block<Dim, 1>(a * Dim, p) = g.col(a);
     }
     if (outside < np) throw_outside_grid(ps, outside);

@@ -187,8 +187,13 @@ class DGOperator {
       disc_.add_stiffness_products(c, mass, flux, rc);
       return;
     }
-    const auto stiffness = disc_.stiffness(c, mass);
-    for (int l = 0; l < dim; ++l) rc.noalias() += flux[l] * stiffness[l].transpose();
+    const auto apply = [&](const std::array<typename Disc::Stiffness, dim>& stiffness) {
+      for (int l = 0; l < dim; ++l) rc.noalias() += flux[l] * stiffness[l].transpose();
+    };
+    if (disc_.shares_layout(c))
+      apply(disc_.shared_stiffness());  // read in place, not copied
+    else
+      apply(disc_.stiffness(c, mass));
   }
 
   // Star state of face f along l from the edge states of its sides (a boundary state where one

@@ -3,6 +3,11 @@
 // holds, their local coordinates (shape values and pseudo-stiffness matrices follow from them),
 // lumped nodal masses and cell materials (docs/method.md, "Discretisation"). Built once for fixed
 // particles, rebuilt after every move otherwise.
+//
+// Cells whose particles sit exactly where those of one reference cell sit, with the same masses
+// and material (every full cell of a regular lattice), share its layout: their shape values,
+// gradients and pseudo-stiffness are computed once per build, from the reference cell, by the
+// code that computes any other cell's: the same values to the last bit.
 
 #include "grid.hpp"
 #include "particles.hpp"
@@ -12,6 +17,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cstring>
+#include <limits>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -131,13 +138,15 @@ class Discretisation {
       }
     }
 
+    occupied_.assign(nc, 0);
+    match_layouts(grid, particles, threaded);
     node_mass_.setZero(grid.num_nodes());
     inv_mass_.setZero(grid.num_nodes());
     source_corner_.assign(grid.num_nodes(), -1);
     cell_size_ = grid.cell_size;
+    inverse_cell_size_ = grid.cell_size.cwiseInverse();
     cell_material_.resize(nc);
     table_.assign(materials.begin(), materials.end());  // this build's blends follow
-    occupied_.assign(nc, 0);
     cell_volume_ = grid.cell_volume();
 
     near_empty_.assign(nc, 0);
@@ -159,7 +168,9 @@ class Discretisation {
         if (k != pure) pure = kMixed;
         cell_mass += m;
       }
-      occupied_[c] = cell_mass > 0.0;
+      occupied_[c] = cell_mass <= 0.0                             ? 0
+                     : occupied_[c] == kShared && layout_sharing_ ? kShared
+                                                                  : 1;
       if (!occupied_[c]) continue;
       massless = set_node_sources(c, cell_mass) || massless;
       for (int a = 0; a < npc; ++a) {
@@ -198,6 +209,12 @@ class Discretisation {
     has_massless_ = massless;
     has_near_empty_ = near_empty;
     first_overfull_ = first_overfull < nc ? first_overfull : -1;
+    exact_row_sum_.resize(table_.size());
+    for (std::size_t k = 0; k < table_.size(); ++k)
+      for (int l = 0; l < dim; ++l)
+        exact_row_sum_[k][l] =
+            Physics::density(table_[k]) * cell_volume_ / (cell_size_[l] * (npc / 2));
+    shared_layout_values(particles.mass);
   }
 
   int num_cells() const {
@@ -223,6 +240,19 @@ class Discretisation {
   bool occupied(int c) const {
     return occupied_[c];
   }
+  // Whether occupied cell c has the shared layout (see above).
+  bool shares_layout(int c) const {
+    return occupied_[c] == kShared;
+  }
+  // Cells with the shared layout (0 when no two cells share one).
+  int shared_cells() const {
+    return shared_cells_;
+  }
+  // Whether the layout is shared (on by default); off, every cell computes its own values (the
+  // results are the same to the last bit: tests/solver_shared_layout.cpp).
+  void set_layout_sharing(bool on) {
+    layout_sharing_ = on;
+  }
   // The material of cell c's particles, mass-weighted when they carry several.
   const Material& cell_material(int c) const {
     return table_[cell_material_[c]];
@@ -232,6 +262,7 @@ class Discretisation {
   // built from. Computed when asked from the cell's particles: a few products per particle, where
   // storing them cost npc^2 doubles per cell and axis (256 bytes per cell in 2D).
   std::array<Stiffness, dim> stiffness(int c, const Eigen::VectorXd& mass) const {
+    if (shares_layout(c)) return shared_.stiffness;
     std::array<Stiffness, dim> k;
     for (auto& kl : k) kl.setZero();
     typename Shape::Values share;
@@ -241,6 +272,10 @@ class Discretisation {
     if (formulation_ == Formulation::consistent && cell > 0.0) make_consistent(c, share / cell, k);
     return k;
   }
+  // The shared layout's K^l (only for a cell that shares_layout).
+  const std::array<Stiffness, dim>& shared_stiffness() const {
+    return shared_.stiffness;
+  }
   // rc += sum_l F_l K^l^T (F_l: npc columns of fluxes along l) without forming K^l: the sum over
   // the cell's particles of m_p (F_l S_p) (grad_l S_p)^T, plus the consistency correction
   // (F_l u) d_l^T of make_consistent. Fewer operations than stiffness() and the products for a
@@ -249,6 +284,17 @@ class Discretisation {
   void add_stiffness_products(int c, const Eigen::VectorXd& mass,
                               const std::array<Eigen::Matrix<double, NComp, npc>, dim>& flux,
                               Out& rc) const {
+    if (shares_layout(c)) {  // the sums below with the shared layout's values and defects
+      for (int j = 0; j < shared_.count; ++j)
+        for (int l = 0; l < dim; ++l) {
+          const Eigen::Matrix<double, NComp, 1> at = shared_.mass[j] * (flux[l] * shared_.shape[j]);
+          rc.noalias() += at * shared_.gradient[j].row(l);
+        }
+      for (int l = 0; l < dim; ++l)
+        if (shared_.defective[l])
+          rc.noalias() += (flux[l] * shared_.mass_share) * shared_.defect[l].transpose();
+      return;
+    }
     std::array<typename Shape::Values, dim> row_sums;  // K^l 1
     for (auto& r : row_sums) r.setZero();
     typename Shape::Values share;
@@ -279,7 +325,7 @@ class Discretisation {
     for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
       const int p = entries_[e];
       const auto s = Shape::values(local_.col(p));
-      f(mass[p], s, Shape::gradients(local_.col(p), cell_size_));
+      f(mass[p], s, Shape::gradients(local_.col(p), inverse_cell_size_));
       share += mass[p] * s;
       cell += mass[p];
     }
@@ -419,6 +465,95 @@ class Discretisation {
     return massless;
   }
 
+  // Finds the cells whose particles sit as those of a reference cell sit (the first cell with
+  // particles from the middle of the grid on, or else from its start), with the same masses and
+  // material, and marks them kShared in occupied_. Their local coordinates are set to the
+  // reference's where they differ by no more than the round-off of x / h at the grid's far end
+  // (layout_snap): a lattice's particles are placed at the same local coordinates in every cell,
+  // which computing them from positions spoils in the last bits. Done whether or not the layout
+  // is shared, so that sharing changes no result.
+  void match_layouts(const Grid<dim>& grid, const ParticlesOf<Physics>& particles, bool threaded) {
+    const int nc = num_cells();
+    shared_.count = 0;
+    int reference = -1;
+    for (int c = nc / 2; c < nc && reference < 0; ++c)
+      if (cell_end(c) > cell_begin(c)) reference = c;
+    for (int c = 0; c < nc / 2 && reference < 0; ++c)
+      if (cell_end(c) > cell_begin(c)) reference = c;
+    if (reference < 0) return;
+    const int n = cell_end(reference) - cell_begin(reference);
+    const int material = particles.material[entries_[cell_begin(reference)]];
+    shared_.mass.resize(n);
+    shared_.local.resize(dim, n);
+    for (int j = 0; j < n; ++j) {
+      const int p = entries_[cell_begin(reference) + j];
+      if (particles.material[p] != material) return;  // a mixed reference: nothing shared
+      shared_.mass[j] = particles.mass[p];
+      shared_.local.col(j) = local_.col(p);
+    }
+    shared_.reference = reference;
+    shared_.count = n;
+    Eigen::Matrix<double, dim, 1> snap;
+    for (int l = 0; l < dim; ++l)
+      snap[l] = layout_snap * std::numeric_limits<double>::epsilon() * (grid.cells[l] + 1);
+#pragma omp parallel for if (threaded)
+    for (int c = 0; c < nc; ++c) {
+      if (cell_end(c) - cell_begin(c) != n) continue;
+      bool same = true;
+      for (int j = 0; j < n && same; ++j) {
+        const int p = entries_[cell_begin(c) + j];
+        // The mass bit for bit (memcmp: -0 and +0 differ).
+        same = particles.material[p] == material &&
+               std::memcmp(&particles.mass[p], &shared_.mass[j], sizeof(double)) == 0 &&
+               ((local_.col(p) - shared_.local.col(j)).cwiseAbs().array() <= snap.array()).all();
+      }
+      if (!same) continue;
+      for (int j = 0; j < n; ++j) local_.col(entries_[cell_begin(c) + j]) = shared_.local.col(j);
+      occupied_[c] = kShared;
+    }
+  }
+  // Local coordinates of a lattice's particles may differ from the reference's by this many
+  // epsilons times the cells along the axis (x / h at the far end: x, x - origin and the division
+  // each round, the position itself was computed).
+  static constexpr double layout_snap = 16.0;
+
+  // The shared layout's values, from the reference cell (its material set), and the count of the
+  // cells that share it.
+  void shared_layout_values(const Eigen::VectorXd& mass) {
+    const int nc = num_cells();
+    shared_cells_ = 0;
+    if (!layout_sharing_ || shared_.count == 0) return;
+    const int reference = shared_.reference, n = shared_.count;
+    if (occupied_[reference] != kShared) {  // no mass: nothing to share
+      for (int c = 0; c < nc; ++c) occupied_[c] = occupied_[c] != 0;
+      return;
+    }
+    for (int c = 0; c < nc; ++c) shared_cells_ += occupied_[c] == kShared;
+    shared_.shape.resize(n);
+    shared_.gradient.resize(n);
+    for (int j = 0; j < n; ++j) {
+      shared_.shape[j] = Shape::values(shared_.local.col(j));
+      shared_.gradient[j] = Shape::gradients(shared_.local.col(j), inverse_cell_size_);
+    }
+    // Computed while the reference is not yet marked shared: the code any other cell runs.
+    occupied_[reference] = 1;
+    shared_.stiffness = stiffness(reference, mass);
+    // add_stiffness_products' consistency part, from the reference's row sums.
+    std::array<typename Shape::Values, dim> row_sums;
+    for (auto& r : row_sums) r.setZero();
+    typename Shape::Values share;
+    const double cell =
+        visit_shapes(reference, mass, share, [&](double m, const auto& s, const auto& g) {
+          const double sum = s.sum();
+          for (int l = 0; l < dim; ++l) row_sums[l] += (m * sum) * g.row(l).transpose();
+        });
+    shared_.mass_share = share / cell;
+    for (int l = 0; l < dim; ++l)
+      shared_.defective[l] = formulation_ == Formulation::consistent && cell > 0.0 &&
+                             consistency_defect(reference, l, row_sums[l], shared_.defect[l]);
+    occupied_[reference] = kShared;
+  }
+
   // The over-full check of an occupied cell whose material is set.
   void finish_cell(int c, int& first_overfull) const {
     if (overfull(c)) first_overfull = std::min(first_overfull, c);
@@ -439,8 +574,7 @@ class Discretisation {
   // t^l - K^l 1 from the row sums of K^l, and whether it exceeds round-off.
   bool consistency_defect(int c, int l, const typename Shape::Values& row_sums,
                           typename Shape::Values& defect) const {
-    const double rho_v = Physics::density(cell_material(c)) * cell_volume_;
-    const double exact = rho_v / (cell_size_[l] * (npc / 2));
+    const double exact = exact_row_sum_[cell_material_[c]][l];
     for (int a = 0; a < npc; ++a) defect[a] = (((a >> l) & 1) ? exact : -exact);
     defect -= row_sums;
     return defect.cwiseAbs().maxCoeff() > kConsistentTolerance * exact;
@@ -448,7 +582,26 @@ class Discretisation {
   // Relative row-sum defect below which a cell counts as consistent (round-off of the sums).
   static constexpr double kConsistentTolerance = 1e-12;
 
-  static constexpr int kMixed = -2;  // cell_material_ of a mixed cell before its blend
+  static constexpr int kMixed = -2;   // cell_material_ of a mixed cell before its blend
+  static constexpr char kShared = 2;  // occupied_ of a cell with the shared layout
+
+  // The shared layout: its particles (entry order) and what the cells that share it read.
+  struct SharedLayout {
+    int count = 0;  // particles (0: no layout shared)
+    int reference = -1;
+    std::vector<double> mass;
+    Eigen::Matrix<double, dim, Eigen::Dynamic> local;
+    std::vector<typename Shape::Values> shape;
+    std::vector<typename Shape::Gradients> gradient;
+    std::array<Stiffness, dim> stiffness;
+    typename Shape::Values mass_share;  // u of make_consistent
+    std::array<bool, dim> defective{};
+    std::array<typename Shape::Values, dim> defect;
+  };
+  SharedLayout shared_;
+  int shared_cells_ = 0;
+  bool layout_sharing_ = true;
+  std::vector<Eigen::Matrix<double, dim, 1>> exact_row_sum_;  // per table_ entry, per axis
 
   std::vector<int> particle_cell_;
   Eigen::Matrix<double, dim, Eigen::Dynamic> local_;
@@ -457,6 +610,7 @@ class Discretisation {
   Eigen::VectorXd node_mass_, inv_mass_;
   std::vector<signed char> source_corner_;
   typename Grid<dim>::Vec cell_size_ = Grid<dim>::Vec::Ones();
+  typename Grid<dim>::Vec inverse_cell_size_ = Grid<dim>::Vec::Ones();
   std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
   std::vector<int> cell_material_;  // index into table_
   std::vector<char> occupied_;

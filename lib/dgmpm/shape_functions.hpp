@@ -25,11 +25,12 @@ struct CellShape {
     return s;
   }
 
-  static Gradients gradients(const Vec& xi, const Vec& h) {
+  // inverse_h: 1 / h per axis, taken once (+-1 / h is +-(1 / h) exactly: no division per node).
+  static Gradients gradients(const Vec& xi, const Vec& inverse_h) {
     Gradients g;
     for (int a = 0; a < nodes; ++a)
       for (int l = 0; l < Dim; ++l) {
-        double v = (((a >> l) & 1) ? 1.0 : -1.0) / h[l];
+        double v = (((a >> l) & 1) ? 1.0 : -1.0) * inverse_h[l];
         for (int k = 0; k < Dim; ++k)
           if (k != l) v *= factor(xi[k], (a >> k) & 1);
         g(l, a) = v;

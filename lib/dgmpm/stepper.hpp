@@ -17,6 +17,9 @@ struct StepperOptions {
   TimeScheme time = TimeScheme::euler;
   FluxScheme flux = FluxScheme::dcu;
   Formulation formulation = Formulation::consistent;
+  // Cells of one layout share its values (Discretisation::set_layout_sharing); off only to check
+  // that the results do not depend on it.
+  bool share_layouts = true;
 };
 
 // The physics' own particle step over dt for `particles` (a constitutive correction of each
@@ -47,6 +50,7 @@ class Stepper {
   Stepper(const Grid<dim>& grid, const Boundaries<dim>& boundaries, const StepperOptions& options)
       : grid_(grid), boundaries_(boundaries), options_(options) {
     disc_.set_formulation(options.formulation);
+    disc_.set_layout_sharing(options.share_layouts);
     switch (options.time) {
       case TimeScheme::euler:
         integrator_.template emplace<ForwardEuler<Physics>>();

@@ -34,9 +34,11 @@ struct ElasticBar {
     double wave_speed() const { return c_; }
     double impedance() const { return z_; }
     double specific_modulus() const { return specific_modulus_; }  // E / rho
+    // 1 / (2 Z): the Riemann solve's factor between two cells of this material.
+    double inverse_double_impedance() const { return inverse_double_z_; }
 
    private:
-    double c_, z_, specific_modulus_;
+    double c_, z_, specific_modulus_, inverse_double_z_ = 1.0 / (z_ + z_);
   };
 
   // The material of a cell holding particles of several materials (ma of a, mb of b): the density
@@ -71,7 +73,8 @@ struct ElasticBar {
                        const Material& mp) {
     const double zm = mm.impedance(), zp = mp.impedance();
     const double sm = qm[0] * mm.density, sp = qp[0] * mp.density;
-    const double inv = 1.0 / (zm + zp);
+    // One material on both sides (the same table entry): its factor, not a division per face.
+    const double inv = &mm == &mp ? mm.inverse_double_impedance() : 1.0 / (zm + zp);
     const double v_star = (zm * qm[1] + zp * qp[1] + sp - sm) * inv;
     const double s_star = (zp * sm + zm * sp + zm * zp * (qp[1] - qm[1])) * inv;
     return {s_star, v_star};

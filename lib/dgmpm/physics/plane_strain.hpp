@@ -82,6 +82,9 @@ struct PlaneStrain {
     double s_impedance() const { return zs_; }
     double inverse_density() const { return inverse_density_; }
     double lambda_over_p_speed() const { return lambda_over_cp_; }  // CTU's transverse waves
+    // 1 / (2 Z): the Riemann solve's factor between two cells of this material.
+    double inverse_double_p_impedance() const { return inverse_double_zp_; }
+    double inverse_double_s_impedance() const { return inverse_double_zs_; }
 
    private:
     void finish() {
@@ -91,9 +94,11 @@ struct PlaneStrain {
       zs_ = density * cs_;
       inverse_density_ = 1.0 / density;
       lambda_over_cp_ = lambda_ / cp_;
+      inverse_double_zp_ = 1.0 / (zp_ + zp_);
+      inverse_double_zs_ = 1.0 / (zs_ + zs_);
     }
     double lambda_ = 0, mu_ = 0.5, cp_ = 1, cs_ = 1, zp_ = 1, zs_ = 1, inverse_density_ = 1,
-           lambda_over_cp_ = 0;
+           lambda_over_cp_ = 0, inverse_double_zp_ = 0.5, inverse_double_zs_ = 0.5;
   };
 
   // The material of a cell holding particles of several materials (ma of a, mb of b), as for the
@@ -168,10 +173,14 @@ struct PlaneStrain {
                        const Material& mp) {
     const int nn = normal_stress(axis), vn = normal_velocity(axis), vt = tangential_velocity(axis);
     State s = State::Zero();
-    pair_star(mm.p_impedance(), qm[nn] * mm.density, qm[vn], mp.p_impedance(), qp[nn] * mp.density,
-              qp[vn], s[nn], s[vn]);
-    pair_star(mm.s_impedance(), qm[sxy] * mm.density, qm[vt], mp.s_impedance(),
-              qp[sxy] * mp.density, qp[vt], s[sxy], s[vt]);
+    // One material on both sides (the same table entry): its factors, not a division per face.
+    const bool same = &mm == &mp;
+    const double zpm = mm.p_impedance(), zpp = mp.p_impedance();
+    const double zsm = mm.s_impedance(), zsp = mp.s_impedance();
+    pair_star(zpm, qm[nn] * mm.density, qm[vn], zpp, qp[nn] * mp.density, qp[vn],
+              same ? mm.inverse_double_p_impedance() : 1.0 / (zpm + zpp), s[nn], s[vn]);
+    pair_star(zsm, qm[sxy] * mm.density, qm[vt], zsp, qp[sxy] * mp.density, qp[vt],
+              same ? mm.inverse_double_s_impedance() : 1.0 / (zsm + zsp), s[sxy], s[vt]);
     return s;
   }
 
@@ -301,10 +310,10 @@ struct PlaneStrain {
   }
 
  private:
-  // 1D star state of a (sigma, v) pair with impedances zm, zp (docs/method.md, "Fluxes").
+  // 1D star state of a (sigma, v) pair with impedances zm, zp (docs/method.md, "Fluxes"); inv is
+  // 1 / (zm + zp).
   static void pair_star(double zm, double sm, double vm, double zp, double sp, double vp,
-                        double& s_star, double& v_star) {
-    const double inv = 1.0 / (zm + zp);
+                        double inv, double& s_star, double& v_star) {
     v_star = (zm * vm + zp * vp + sp - sm) * inv;
     s_star = (zp * sm + zm * sp + zm * zp * (vp - vm)) * inv;
   }

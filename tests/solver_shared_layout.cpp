@@ -1,0 +1,158 @@
+// Cells whose particles sit as a reference cell's sit share that layout's shape values,
+// gradients and pseudo-stiffness (Discretisation): computed once per build by the code that
+// computes any other cell's. A step must give the same particle states and internal variables to
+// the last bit with and without the sharing, on scenes that mix cells of the shared layout with
+// others: boundaries, void cells, two materials, massless nodes and part-full cells (particles
+// moved off the lattice), periodic grids, plastic flow, finite strain, DCU and CTU, Euler and
+// RK2, fixed and moving particles. The sharing must also be found where it applies: every full
+// cell of a regular lattice, and in the mixed scenes some cells but not all.
+#define BOOST_TEST_MODULE solver_shared_layout
+#include <boost/test/unit_test.hpp>
+
+#include "common/loaded_scenes.hpp"
+#include "solver/problem.hpp"
+#include "solver/scene.hpp"
+#include "solver/simulation.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+using namespace dgmpm;
+using nlohmann::json;
+
+namespace {
+
+// Moves every 7th particle onto its cell's lower corner (massless nodes) and every 11th into
+// the next cell along x (over-full and part-full cells).
+template <class ParticleSet, int Dim>
+void disturb(ParticleSet& p, const Grid<Dim>& grid) {
+  for (int k = 0; k < p.size(); k += 7) {
+    Eigen::Matrix<double, Dim, 1> xi;
+    const int c = grid.locate(p.position.col(k), xi);
+    const auto index = grid.unflatten(c);
+    for (int a = 0; a < Dim; ++a) p.position(a, k) = grid.origin[a] + index[a] * grid.cell_size[a];
+  }
+  for (int k = 3; k < p.size(); k += 11) p.position(0, k) += grid.cell_size[0];
+}
+
+struct Counts {
+  int shared = 0, occupied = 0;
+};
+
+// Steps the scene `steps` times with and without shared layouts and checks the particles agree
+// to the last bit after every step; moving particles follow their velocities and the
+// discretisations are rebuilt. Returns the cells sharing the layout at the first build.
+template <class Physics>
+Counts check_same(const json& doc, int steps, bool disturbed) {
+  const scene::Scene scene = scene::parse_scene(doc, "shared");
+  Problem<Physics> problem = make_problem<Physics>(scene);
+  if (disturbed) disturb(problem.particles, problem.grid);
+  StepperOptions on = stepper_options(scene), off = on;
+  off.share_layouts = false;
+  Stepper<Physics> sharing(problem.grid, problem.boundaries, on);
+  Stepper<Physics> alone(problem.grid, problem.boundaries, off);
+  ParticlesOf<Physics> a = problem.particles, b = problem.particles;
+  sharing.rebuild(a, problem.materials);
+  alone.rebuild(b, problem.materials);
+  Counts counts;
+  counts.shared = sharing.discretisation().shared_cells();
+  for (int c = 0; c < sharing.discretisation().num_cells(); ++c)
+    counts.occupied += sharing.discretisation().occupied(c);
+  BOOST_TEST_REQUIRE(alone.discretisation().shared_cells() == 0);
+
+  const double dt = 0.4 * problem.grid.cell_size.minCoeff() / problem.max_wave_speed();
+  constexpr int dim = Physics::dim;
+  for (int n = 0; n < steps; ++n) {
+    const double t = n * dt;
+    BOOST_TEST_REQUIRE(sharing.step(a, problem.materials, t, dt));
+    BOOST_TEST_REQUIRE(alone.step(b, problem.materials, t, dt));
+    BOOST_TEST_REQUIRE((a.state == b.state), "step " << n);
+    if constexpr (Physics::n_internal > 0) BOOST_TEST_REQUIRE((a.internal == b.internal));
+    if (scene.particles_move) {
+      // The velocity is the state's last dim components (elastic and plastic physics).
+      a.position += dt * a.state.template bottomRows<dim>();
+      b.position += dt * b.state.template bottomRows<dim>();
+      sharing.rebuild(a, problem.materials);
+      alone.rebuild(b, problem.materials);
+    }
+  }
+  BOOST_TEST_REQUIRE(a.state.cwiseAbs().maxCoeff() > 0.0);
+  return counts;
+}
+
+json bar(const std::string& integrator, bool move = false) {
+  return test::loaded_bar(70, 0.1, integrator, move);
+}
+
+json plate(const std::string& integrator, const std::string& flux, int ppc, bool move = false) {
+  return test::loaded_plate(20, 14, 0.25, ppc, flux, integrator, move);
+}
+
+json plastic(json doc) {
+  auto& steel = doc["materials"]["steel"];
+  steel["model"] = "elastoplastic";
+  steel["yield_stress"] = 3e7;
+  steel["isotropic_hardening"] = 1e9;
+  steel["kinematic_hardening"] = 5e9;
+  return doc;
+}
+
+json finite(json doc) {
+  for (auto& [name, material] : doc["materials"].items()) material["model"] = "neo_hookean";
+  return doc;
+}
+
+// Some cells share the layout, not all.
+void mixed(const Counts& c) {
+  BOOST_TEST(c.shared > 0);
+  BOOST_TEST(c.shared < c.occupied);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(bars_step_the_same_with_and_without_shared_layouts) {
+  for (const std::string integrator : {"euler", "rk2"})
+    for (const bool disturbed : {false, true}) {
+      BOOST_TEST_CONTEXT(integrator << (disturbed ? ", disturbed" : "")) {
+        mixed(check_same<ElasticBar>(bar(integrator), 40, disturbed));
+        mixed(check_same<ElasticBar>(test::periodic(bar(integrator), {true}), 40, disturbed));
+        mixed(check_same<ElastoPlasticBar>(plastic(bar(integrator)), 40, disturbed));
+        check_same<ElasticBar>(bar(integrator, true), 40, disturbed);
+      }
+    }
+}
+
+BOOST_AUTO_TEST_CASE(plates_step_the_same_with_and_without_shared_layouts) {
+  for (const std::string integrator : {"euler", "rk2"})
+    for (const std::string flux : {"dcu", "ctu"})
+      for (const int ppc : {1, 2})
+        for (const bool disturbed : {false, true}) {
+          BOOST_TEST_CONTEXT(integrator << ", " << flux << ", " << ppc << " ppc"
+                                        << (disturbed ? ", disturbed" : "")) {
+            const json doc = plate(integrator, flux, ppc);
+            mixed(check_same<PlaneStrain>(doc, 15, disturbed));
+            mixed(check_same<PlaneStrain>(test::periodic(test::filled(doc), {true, true}), 15,
+                                          disturbed));
+            mixed(check_same<PlaneStrainPlastic>(plastic(doc), 15, disturbed));
+            check_same<PlaneStrain>(
+                test::periodic(test::filled(plate(integrator, flux, ppc, true)), {true, true}), 15,
+                disturbed);
+          }
+        }
+  for (const std::string integrator : {"euler", "rk2"})
+    mixed(
+        check_same<FiniteStrainPlane<NeoHookean>>(finite(plate(integrator, "dcu", 1)), 15, false));
+}
+
+// A periodic lattice: every cell holds the reference cell's particles.
+BOOST_AUTO_TEST_CASE(every_cell_of_a_regular_lattice_shares_its_layout) {
+  for (const int ppc : {1, 2}) {
+    json doc = test::periodic(test::filled(plate("euler", "dcu", ppc)), {true, true});
+    doc["bodies"] = json::array({doc["bodies"][0]});
+    doc["bodies"][0]["box"]["max"][0] = 20 * 0.25;
+    const Counts c = check_same<PlaneStrain>(doc, 5, false);
+    BOOST_TEST(c.occupied == 20 * 14);
+    BOOST_TEST(c.shared == c.occupied);
+  }
+}
