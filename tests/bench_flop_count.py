@@ -6,7 +6,9 @@
 2. Against a count by hand of the 1D DGMPM Euler step (one particle per cell, periodic bar), kernel
    by kernel from lib/ (per cell = per particle-step):
      project_cell         15  (m q: 2, outer product with S and sum: 8, S: 1, times 1/m_i: 4)
-     stiffness             0  (the lattice's cells share one layout: computed once per build)
+     stiffness             0  (the lattice's cells share one layout: computed once per build;
+                               the cells whose located coordinates are a few bits off it
+                               compute their own, 26 each: the counted total sits above 88)
      add_volume_term      18  (specific flux: 2, 2x2 by 2x2 product: 12, sum: 4)
      faces                30  (edge states 2 + 2, Riemann solve 16 (1 / (2 Z) precomputed), two
                                fluxes 6, sums 4)
