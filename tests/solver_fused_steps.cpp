@@ -83,23 +83,6 @@ double largest_difference(const json& doc, int steps) {
   return worst / scale;
 }
 
-// A yielding steel plate (the loaded plate's traction is above its yield stress).
-json plastic(json doc) {
-  auto& steel = doc["materials"]["steel"];
-  steel["model"] = "elastoplastic";
-  steel["yield_stress"] = 3e7;
-  steel["isotropic_hardening"] = 1e9;
-  steel["kinematic_hardening"] = 5e9;
-  return doc;
-}
-
-// The plate's materials neo-Hookean (finite strain, total Lagrangian: the displacement is the
-// internal variable).
-json finite(json doc) {
-  for (auto& [name, material] : doc["materials"].items()) material["model"] = "neo_hookean";
-  return doc;
-}
-
 void check_every_scene() {
   for (const std::string integrator : {"euler", "rk2"}) {
     BOOST_TEST_CONTEXT(integrator) {
@@ -107,13 +90,14 @@ void check_every_scene() {
           {"1D", largest_difference<ElasticBar>(bar(integrator), 40)},
           {"1D periodic",
            largest_difference<ElasticBar>(test::periodic(bar(integrator), {true}), 40)},
-          {"1D plastic", largest_difference<ElastoPlasticBar>(plastic(bar(integrator)), 40)},
+          {"1D plastic", largest_difference<ElastoPlasticBar>(test::plastic(bar(integrator)), 40)},
           {"2D", largest_difference<PlaneStrain>(plate(integrator), 20)},
           {"2D periodic", largest_difference<PlaneStrain>(
                               test::periodic(test::filled(plate(integrator)), {true, true}), 20)},
           {"2D periodic along x",
            largest_difference<PlaneStrain>(test::periodic(plate(integrator), {true, false}), 20)},
-          {"2D plastic", largest_difference<PlaneStrainPlastic>(plastic(plate(integrator)), 20)},
+          {"2D plastic",
+           largest_difference<PlaneStrainPlastic>(test::plastic(plate(integrator)), 20)},
           {"2D CTU", largest_difference<PlaneStrain>(plate(integrator, "ctu"), 20)},
           {"2D CTU periodic",
            largest_difference<PlaneStrain>(
@@ -122,11 +106,11 @@ void check_every_scene() {
            largest_difference<PlaneStrain>(test::periodic(plate(integrator, "ctu"), {true, false}),
                                            20)},
           {"2D CTU plastic",
-           largest_difference<PlaneStrainPlastic>(plastic(plate(integrator, "ctu")), 20)},
+           largest_difference<PlaneStrainPlastic>(test::plastic(plate(integrator, "ctu")), 20)},
           {"2D finite strain",
-           largest_difference<FiniteStrainPlane<NeoHookean>>(finite(plate(integrator)), 20)},
+           largest_difference<FiniteStrainPlane<NeoHookean>>(test::finite(plate(integrator)), 20)},
           {"2D finite strain CTU", largest_difference<FiniteStrainPlane<NeoHookean>>(
-                                       finite(plate(integrator, "ctu")), 20)}};
+                                       test::finite(plate(integrator, "ctu")), 20)}};
       for (const auto& [name, difference] : differences) {
         BOOST_TEST_MESSAGE(integrator << ", " << name << ": largest difference " << difference);
         BOOST_TEST(difference == 0.0, name);

@@ -91,20 +91,6 @@ json plate(const std::string& integrator, const std::string& flux, int ppc, bool
   return test::loaded_plate(20, 14, 0.25, ppc, flux, integrator, move);
 }
 
-json plastic(json doc) {
-  auto& steel = doc["materials"]["steel"];
-  steel["model"] = "elastoplastic";
-  steel["yield_stress"] = 3e7;
-  steel["isotropic_hardening"] = 1e9;
-  steel["kinematic_hardening"] = 5e9;
-  return doc;
-}
-
-json finite(json doc) {
-  for (auto& [name, material] : doc["materials"].items()) material["model"] = "neo_hookean";
-  return doc;
-}
-
 // Some cells share the layout, not all.
 void mixed(const Counts& c) {
   BOOST_TEST(c.shared > 0);
@@ -119,7 +105,7 @@ BOOST_AUTO_TEST_CASE(bars_step_the_same_with_and_without_shared_layouts) {
       BOOST_TEST_CONTEXT(integrator << (disturbed ? ", disturbed" : "")) {
         mixed(check_same<ElasticBar>(bar(integrator), 40, disturbed));
         mixed(check_same<ElasticBar>(test::periodic(bar(integrator), {true}), 40, disturbed));
-        mixed(check_same<ElastoPlasticBar>(plastic(bar(integrator)), 40, disturbed));
+        mixed(check_same<ElastoPlasticBar>(test::plastic(bar(integrator)), 40, disturbed));
         check_same<ElasticBar>(bar(integrator, true), 40, disturbed);
       }
     }
@@ -136,15 +122,15 @@ BOOST_AUTO_TEST_CASE(plates_step_the_same_with_and_without_shared_layouts) {
             mixed(check_same<PlaneStrain>(doc, 15, disturbed));
             mixed(check_same<PlaneStrain>(test::periodic(test::filled(doc), {true, true}), 15,
                                           disturbed));
-            mixed(check_same<PlaneStrainPlastic>(plastic(doc), 15, disturbed));
+            mixed(check_same<PlaneStrainPlastic>(test::plastic(doc), 15, disturbed));
             check_same<PlaneStrain>(
                 test::periodic(test::filled(plate(integrator, flux, ppc, true)), {true, true}), 15,
                 disturbed);
           }
         }
   for (const std::string integrator : {"euler", "rk2"})
-    mixed(
-        check_same<FiniteStrainPlane<NeoHookean>>(finite(plate(integrator, "dcu", 1)), 15, false));
+    mixed(check_same<FiniteStrainPlane<NeoHookean>>(test::finite(plate(integrator, "dcu", 1)), 15,
+                                                    false));
 }
 
 // A periodic lattice: every cell holds the reference cell's particles.
@@ -178,7 +164,7 @@ BOOST_AUTO_TEST_CASE(the_shared_layout_is_the_most_common_one) {
   const scene::Scene scene = scene::parse_scene(doc, "lattice");
   const Problem<ElasticBar> problem = make_problem<ElasticBar>(scene);
   std::map<double, int> count;
-  Eigen::Matrix<double, 1, 1> xi;
+  Eigen::Matrix<double, 1, 1> xi = Eigen::Matrix<double, 1, 1>::Zero();
   double middle = -1.0;
   for (int p = 0; p < problem.particles.size(); ++p) {
     const int c = problem.grid.locate(problem.particles.position.col(p), xi);

@@ -83,4 +83,21 @@ inline nlohmann::json periodic(nlohmann::json doc, const std::vector<bool>& axes
   return doc;
 }
 
+// The scene with its steel yielding (the loaded plate's traction is above its yield stress).
+inline nlohmann::json plastic(nlohmann::json doc) {
+  auto& steel = doc["materials"]["steel"];
+  steel["model"] = "elastoplastic";
+  steel["yield_stress"] = 3e7;
+  steel["isotropic_hardening"] = 1e9;
+  steel["kinematic_hardening"] = 5e9;
+  return doc;
+}
+
+// The scene with every material neo-Hookean (finite strain, total Lagrangian: the displacement is
+// the internal variable).
+inline nlohmann::json finite(nlohmann::json doc) {
+  for (auto& [name, material] : doc["materials"].items()) material["model"] = "neo_hookean";
+  return doc;
+}
+
 }  // namespace dgmpm::test
