@@ -10,6 +10,7 @@
 #define BOOST_TEST_MODULE solver_fused_steps
 #include <boost/test/unit_test.hpp>
 
+#include "common/disturb.hpp"
 #include "common/loaded_scenes.hpp"
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
@@ -34,26 +35,13 @@ json plate(const std::string& integrator, const std::string& flux = "dcu") {
   return test::loaded_plate(20, 14, 0.25, 2, flux, integrator, false);
 }
 
-// Moves particles so that some nodes are massless (a particle on its cell's lower node along
-// every axis), some cells inside the body over-full and others empty.
-template <class ParticleSet, int Dim>
-void disturb(ParticleSet& p, const Grid<Dim>& grid) {
-  for (int k = 0; k < p.size(); k += 7) {
-    Eigen::Matrix<double, Dim, 1> xi;
-    const int c = grid.locate(p.position.col(k), xi);
-    const auto index = grid.unflatten(c);
-    for (int a = 0; a < Dim; ++a) p.position(a, k) = grid.origin[a] + index[a] * grid.cell_size[a];
-  }
-  for (int k = 3; k < p.size(); k += 11) p.position(0, k) += grid.cell_size[0];
-}
-
 // The largest difference between the fused and the reference steps' particle states and internal
 // variables over `steps` steps, relative to the largest state.
 template <class Physics>
 double largest_difference(const json& doc, int steps) {
   const scene::Scene scene = scene::parse_scene(doc, "fused");
   Problem<Physics> problem = make_problem<Physics>(scene);
-  disturb(problem.particles, problem.grid);
+  test::disturb(problem.particles, problem.grid);
   const StepperOptions options = stepper_options(scene);
   Stepper<Physics> stepper(problem.grid, problem.boundaries, options);
   stepper.rebuild(problem.particles, problem.materials);

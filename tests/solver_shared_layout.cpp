@@ -9,6 +9,7 @@
 #define BOOST_TEST_MODULE solver_shared_layout
 #include <boost/test/unit_test.hpp>
 
+#include "common/disturb.hpp"
 #include "common/loaded_scenes.hpp"
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
@@ -25,19 +26,6 @@ using nlohmann::json;
 
 namespace {
 
-// Moves every 7th particle onto its cell's lower corner (massless nodes) and every 11th into
-// the next cell along x (over-full and part-full cells).
-template <class ParticleSet, int Dim>
-void disturb(ParticleSet& p, const Grid<Dim>& grid) {
-  for (int k = 0; k < p.size(); k += 7) {
-    Eigen::Matrix<double, Dim, 1> xi;
-    const int c = grid.locate(p.position.col(k), xi);
-    const auto index = grid.unflatten(c);
-    for (int a = 0; a < Dim; ++a) p.position(a, k) = grid.origin[a] + index[a] * grid.cell_size[a];
-  }
-  for (int k = 3; k < p.size(); k += 11) p.position(0, k) += grid.cell_size[0];
-}
-
 struct Counts {
   int shared = 0, occupied = 0;
 };
@@ -49,7 +37,7 @@ template <class Physics>
 Counts check_same(const json& doc, int steps, bool disturbed) {
   const scene::Scene scene = scene::parse_scene(doc, "shared");
   Problem<Physics> problem = make_problem<Physics>(scene);
-  if (disturbed) disturb(problem.particles, problem.grid);
+  if (disturbed) test::disturb(problem.particles, problem.grid);
   StepperOptions on = stepper_options(scene), off = on;
   off.share_layouts = false;
   Stepper<Physics> sharing(problem.grid, problem.boundaries, on);
