@@ -316,11 +316,16 @@ class DGOperator {
   template <class Block, class ParticleStep = NoParticleStep>
   void interpolate_cell(int c, const Block& block, ParticleField& qp,
                         const ParticleStep& particle_step = {}) const {
-    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e) {
+    const int begin = disc_.cell_begin(c), end = disc_.cell_end(c);
+    const auto each = [&](int e, const auto& shape) {
       const int p = disc_.entry_particle(e);
-      qp.col(p).noalias() = block * disc_.entry_shape(e);
+      qp.col(p).noalias() = block * shape;
       if constexpr (!std::is_same_v<ParticleStep, NoParticleStep>) particle_step(p, qp.col(p));
-    }
+    };
+    if (disc_.shares_layout(c))
+      for (int e = begin; e < end; ++e) each(e, disc_.shared_shape(e - begin));
+    else
+      for (int e = begin; e < end; ++e) each(e, disc_.entry_shape(e));
   }
 
   // A thread's sweep over its contiguous range of cells [begin, end), in order. The star state of
@@ -523,6 +528,8 @@ class DGOperator {
   [[gnu::always_inline]] inline void advance_cell(int c, const NodalField& qn,
                                                   const Eigen::VectorXd& mass, double t, double dt,
                                                   const Sweep& sweep, CellBlock& out) const {
+    if constexpr (scheme == FluxScheme::dcu)
+      if (disc_.interior(c)) return advance_interior_cell(c, qn, mass, dt, sweep, out);
     CellBlock rc;
     cell_residual<scheme>(c, qn, mass, t, sweep, rc);
     if (disc_.has_massless_nodes())
@@ -538,6 +545,38 @@ class DGOperator {
     }
   }
 
+  // advance_cell<dcu> of an interior cell (Discretisation::interior): its neighbours are
+  // c +- stride_l, occupied, of its material; no face is a boundary and no node massless. The
+  // same operations in the same order as the general path: the same values to the last bit
+  // (tests/solver_shared_layout.cpp).
+  [[gnu::always_inline]] inline void advance_interior_cell(int c, const NodalField& qn,
+                                                           const Eigen::VectorXd& mass, double dt,
+                                                           const Sweep& sweep,
+                                                           CellBlock& out) const {
+    CellBlock rc;
+    rc.setZero();
+    const auto& mat = disc_.cell_material(c);
+    const auto q = qn.template middleCols<npc>(c * npc);
+    add_volume_term(c, q, mass, rc);
+    for (int l = 0; l < dim; ++l) {
+      const double w = face_weight_[l];
+      const int below = c - faces_.stride(l), above = c + faces_.stride(l);
+      State& slot = sweep.stars[l][sweep.slot[l]];  // below's upper face, solved just before
+      const State lower = below >= sweep.begin ? slot
+                                               : Physics::riemann(l, edge_state(qn, below, l, 1),
+                                                                  mat, edge_average(q, l, 0), mat);
+      const State lower_flux = w * Physics::flux(l, lower, mat);
+      for (int a = 0; a < npc; ++a)
+        if (!((a >> l) & 1)) rc.col(a) += lower_flux;
+      slot = Physics::riemann(l, edge_average(q, l, 1), mat, edge_state(qn, above, l, 0), mat);
+      const State upper_flux = w * Physics::flux(l, slot, mat);
+      for (int a = 0; a < npc; ++a)
+        if ((a >> l) & 1) rc.col(a) -= upper_flux;
+    }
+    out = q;
+    for (int a = 0; a < npc; ++a) out.col(a) += (dt * disc_.inverse_mass(c * npc + a)) * rc.col(a);
+  }
+
   double edge_length(int l) const {
     return face_weight_[l] * face_nodes;
   }
@@ -547,9 +586,21 @@ class DGOperator {
   void project_cell(int c, const ParticleField& qp, const Eigen::VectorXd& mass,
                     Block&& block) const {
     block.setZero();
-    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e) {
-      const int p = disc_.entry_particle(e);
-      block.noalias() += (mass[p] * qp.col(p)) * disc_.entry_shape(e).transpose();
+    const int begin = disc_.cell_begin(c), end = disc_.cell_end(c);
+    if (disc_.shares_layout(c)) {
+      for (int e = begin; e < end; ++e) {
+        const int p = disc_.entry_particle(e);
+        block.noalias() += (mass[p] * qp.col(p)) * disc_.shared_shape(e - begin).transpose();
+      }
+    } else {
+      for (int e = begin; e < end; ++e) {
+        const int p = disc_.entry_particle(e);
+        block.noalias() += (mass[p] * qp.col(p)) * disc_.entry_shape(e).transpose();
+      }
+    }
+    if (disc_.interior(c)) {  // every node its own source
+      for (int a = 0; a < npc; ++a) block.col(a) *= disc_.inverse_mass(c * npc + a);
+      return;
     }
     for (int a = 0; a < npc; ++a)
       if (disc_.source_corner(c * npc + a) == a) block.col(a) *= disc_.inverse_mass(c * npc + a);

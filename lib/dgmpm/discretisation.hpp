@@ -7,7 +7,10 @@
 // Cells whose particles sit exactly where those of one reference cell sit, with the same masses
 // and material (every full cell of a regular lattice), share its layout: their shape values,
 // gradients and pseudo-stiffness are computed once per build, from the reference cell, by the
-// code that computes any other cell's: the same values to the last bit.
+// code that computes any other cell's: the same values to the last bit. A shared cell whose face
+// neighbours all share it too, at the next and previous index along each axis (no periodic wrap),
+// is interior: the operators step it without looking up its faces, their boundaries, its
+// neighbours' materials or massless nodes (dg_operator.hpp).
 
 #include "grid.hpp"
 #include "particles.hpp"
@@ -17,6 +20,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstring>
 #ifdef _OPENMP
 #include <omp.h>
@@ -214,6 +218,7 @@ class Discretisation {
         exact_row_sum_[k][l] =
             Physics::density(table_[k]) * cell_volume_ / (cell_size_[l] * (npc / 2));
     shared_layout_values(particles.mass);
+    mark_interior(grid);
   }
 
   int num_cells() const {
@@ -241,7 +246,16 @@ class Discretisation {
   }
   // Whether occupied cell c has the shared layout (see above).
   bool shares_layout(int c) const {
-    return occupied_[c] == kShared;
+    return occupied_[c] >= kShared;
+  }
+  // Whether cell c is interior (see above): it shares the layout, has no massless node, and so do
+  // its face neighbours c +- stride_l, which are its neighbours across the grid.
+  bool interior(int c) const {
+    return occupied_[c] == kInterior;
+  }
+  // Shape values of the shared layout's particle j (entry order within a cell that shares it).
+  const typename Shape::Values& shared_shape(int j) const {
+    return shared_.shape[j];
   }
   // Cells with the shared layout (0 when no two cells share one).
   int shared_cells() const {
@@ -470,6 +484,7 @@ class Discretisation {
   // speed. Marks them kShared in occupied_. The reference is the sampled cell whose layout most
   // other samples have: positions computed as (i + f) h put x / h - i at f in most cells but a
   // few last bits off it in others (1D, h = 1 / 4000, one particle per cell: 1.2% of the cells).
+  // Nothing is shared unless two samples agree.
   void match_layouts(const ParticlesOf<Physics>& particles, bool threaded) {
     const int nc = num_cells();
     shared_.count = 0;
@@ -504,7 +519,10 @@ class Discretisation {
       for (int j = 0; j < samples; ++j) agree += same_layout(sample[j], sample[i]);
       if (agree > most) most = agree, reference = sample[i];
     }
-    if (reference < 0 || !same_layout(reference, reference)) return;  // none, or mixed materials
+    // A layout no two samples have is rare across the grid (moving particles): scanning every
+    // cell for it would cost more than sharing it saves.
+    if (most < 2) return;
+    if (!same_layout(reference, reference)) return;  // mixed materials
     const int n = cell_end(reference) - cell_begin(reference);
     shared_.mass.resize(n);
     shared_.local.resize(dim, n);
@@ -515,9 +533,22 @@ class Discretisation {
     }
     shared_.reference = reference;
     shared_.count = n;
+    const int material = particles.material[entries_[cell_begin(reference)]];
+    // The scan compares against the copy, coordinates first: they tell most cells apart.
+    const auto matches = [&](int c) {
+      if (cell_end(c) - cell_begin(c) != n) return false;
+      for (int j = 0; j < n; ++j) {
+        const int p = entries_[cell_begin(c) + j];
+        for (int l = 0; l < dim; ++l)
+          if (!same_bits(local_(l, p), shared_.local(l, j))) return false;
+        if (!same_bits(particles.mass[p], shared_.mass[j]) || particles.material[p] != material)
+          return false;
+      }
+      return true;
+    };
 #pragma omp parallel for if (threaded)
     for (int c = 0; c < nc; ++c)
-      if (same_layout(c, reference)) occupied_[c] = kShared;
+      if (matches(c)) occupied_[c] = kShared;
   }
   static constexpr int kLayoutSamples = 9;  // cells sampled for the reference, across the grid
 
@@ -558,6 +589,39 @@ class Discretisation {
     occupied_[reference] = kShared;
   }
 
+  // Marks the interior cells: shared, with shared face neighbours at c +- stride_l. A layout with a
+  // massless node has none (its cells fold residuals between nodes).
+  void mark_interior(const Grid<dim>& grid) {
+    if (shared_cells_ == 0) return;
+    for (int a = 0; a < npc; ++a)
+      if (source_corner_[shared_.reference * npc + a] != a) return;
+    const int nc = num_cells();
+    std::array<int, dim> stride;
+    for (int l = 0, s = 1; l < dim; s *= grid.cells[l], ++l) stride[l] = s;
+    // Row by row along the first axis: a row's place along the others is found once (1D: one
+    // row, serial). Relaxed atomics: a thread reads neighbours that another marks (kShared ->
+    // kInterior, both shared).
+    const auto shared = [&](int c) {
+      return std::atomic_ref<char>(occupied_[c]).load(std::memory_order_relaxed) >= kShared;
+    };
+    const int row = grid.cells[0], rows = nc / row;
+#pragma omp parallel for if (nc >= kThreaded)
+    for (int r = 0; r < rows; ++r) {
+      bool inner_row = true;
+      for (int l = 1, rest = r; l < dim; rest /= grid.cells[l], ++l)
+        inner_row =
+            inner_row && rest % grid.cells[l] > 0 && rest % grid.cells[l] + 1 < grid.cells[l];
+      if (!inner_row) continue;
+      for (int c = r * row + 1; c < (r + 1) * row - 1; ++c) {
+        if (occupied_[c] != kShared) continue;
+        bool inside = true;
+        for (int l = 0; l < dim && inside; ++l)
+          inside = shared(c - stride[l]) && shared(c + stride[l]);
+        if (inside) std::atomic_ref<char>(occupied_[c]).store(kInterior, std::memory_order_relaxed);
+      }
+    }
+  }
+
   // The over-full check of an occupied cell whose material is set.
   void finish_cell(int c, int& first_overfull) const {
     if (overfull(c)) first_overfull = std::min(first_overfull, c);
@@ -586,8 +650,9 @@ class Discretisation {
   // Relative row-sum defect below which a cell counts as consistent (round-off of the sums).
   static constexpr double kConsistentTolerance = 1e-12;
 
-  static constexpr int kMixed = -2;   // cell_material_ of a mixed cell before its blend
-  static constexpr char kShared = 2;  // occupied_ of a cell with the shared layout
+  static constexpr int kMixed = -2;     // cell_material_ of a mixed cell before its blend
+  static constexpr char kShared = 2;    // occupied_ of a cell with the shared layout
+  static constexpr char kInterior = 3;  // ... and interior
 
   // The shared layout: its particles (entry order) and what the cells that share it read.
   struct SharedLayout {
