@@ -29,7 +29,8 @@ struct ElasticBar {
     Material() : Material(1.0, 1.0) {}
     Material(double young, double density)
         : young(young), density(density), c_(std::sqrt(young / density)),
-          z_(std::sqrt(young * density)), specific_modulus_(young / density) {}
+          z_(std::sqrt(young * density)), specific_modulus_(young / density),
+          inverse_double_z_(1.0 / (z_ + z_)) {}
     double young, density;
     double wave_speed() const { return c_; }
     double impedance() const { return z_; }
@@ -38,7 +39,7 @@ struct ElasticBar {
     double inverse_double_impedance() const { return inverse_double_z_; }
 
    private:
-    double c_, z_, specific_modulus_, inverse_double_z_ = 1.0 / (z_ + z_);
+    double c_, z_, specific_modulus_, inverse_double_z_;
   };
 
   // The material of a cell holding particles of several materials (ma of a, mb of b): the density
