@@ -587,17 +587,14 @@ class DGOperator {
                     Block&& block) const {
     block.setZero();
     const int begin = disc_.cell_begin(c), end = disc_.cell_end(c);
-    if (disc_.shares_layout(c)) {
-      for (int e = begin; e < end; ++e) {
-        const int p = disc_.entry_particle(e);
-        block.noalias() += (mass[p] * qp.col(p)) * disc_.shared_shape(e - begin).transpose();
-      }
-    } else {
-      for (int e = begin; e < end; ++e) {
-        const int p = disc_.entry_particle(e);
-        block.noalias() += (mass[p] * qp.col(p)) * disc_.entry_shape(e).transpose();
-      }
-    }
+    const auto add = [&](int e, const auto& shape) {
+      const int p = disc_.entry_particle(e);
+      block.noalias() += (mass[p] * qp.col(p)) * shape.transpose();
+    };
+    if (disc_.shares_layout(c))
+      for (int e = begin; e < end; ++e) add(e, disc_.shared_shape(e - begin));
+    else
+      for (int e = begin; e < end; ++e) add(e, disc_.entry_shape(e));
     if (disc_.interior(c)) {  // every node its own source
       for (int a = 0; a < npc; ++a) block.col(a) *= disc_.inverse_mass(c * npc + a);
       return;
