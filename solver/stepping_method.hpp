@@ -138,16 +138,24 @@ class DgmpmMethod final : public SteppingMethod<Physics> {
   }
   bool step(long step, double t, double dt) override {
     auto& particles = run_.problem.particles;
-    const bool finite = stepper_->step(particles, run_.problem.materials, t, dt);
     if (run_.scene.particles_move) {
-      particles.position += dt * particles.state.template bottomRows<dim>();
+      // Each particle moves with its new velocity in the sweep that interpolates it: no pass of
+      // its own over the particles, and on the step's threads.
+      const auto constitutive =
+          physics_particle_step<Physics>(particles, run_.problem.materials, dt);
+      const bool finite =
+          stepper_->step(particles.state, particles.mass, t, dt, [&](int p, auto&& q) {
+            constitutive(p, q);
+            particles.position.col(p) += dt * q.template bottomRows<dim>();
+          });
       if (run_.halo) run_.halo->migrate(particles);
       stepper_->rebuild(particles, run_.problem.materials);
       if (!overfull_warned_ && run_.scene.formulation == Formulation::paper)
         warn_if_overfull_cell(step, t + dt);
-    } else if (run_.halo) {
-      run_.halo->exchange_states(particles);
+      return finite;
     }
+    const bool finite = stepper_->step(particles, run_.problem.materials, t, dt);
+    if (run_.halo) run_.halo->exchange_states(particles);
     return finite;
   }
   void after_step(long step, double t, double dt) override {

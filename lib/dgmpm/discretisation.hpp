@@ -143,16 +143,18 @@ class Discretisation {
 
     occupied_.assign(nc, 0);
     match_layouts(particles, threaded);
-    node_mass_.setZero(grid.num_nodes());
-    inv_mass_.setZero(grid.num_nodes());
-    source_corner_.assign(grid.num_nodes(), -1);
+    // Set cell by cell below, on the threads (serial fills were a tenth of a 1D moving step on
+    // two threads).
+    node_mass_.resize(grid.num_nodes());
+    inv_mass_.resize(grid.num_nodes());
+    source_corner_.resize(grid.num_nodes());
+    near_empty_.resize(nc);
     cell_size_ = grid.cell_size;
     inverse_cell_size_ = grid.cell_size.cwiseInverse();
     cell_material_.resize(nc);
     table_.assign(materials.begin(), materials.end());  // this build's blends follow
     cell_volume_ = grid.cell_volume();
 
-    near_empty_.assign(nc, 0);
     int first_overfull = nc;
     bool massless = false, near_empty = false;
 #pragma omp parallel for reduction(min                                                             \
@@ -160,6 +162,10 @@ class Discretisation {
     reduction(||                                                                                   \
               : massless, near_empty) if (threaded)
     for (int c = 0; c < nc; ++c) {
+      node_mass_.segment<npc>(c * npc).setZero();
+      inv_mass_.segment<npc>(c * npc).setZero();
+      for (int a = 0; a < npc; ++a) source_corner_[c * npc + a] = -1;
+      near_empty_[c] = 0;
       double cell_mass = 0.0;
       int pure = -1;  // the material every particle so far carries; kMixed once several
       for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
