@@ -143,8 +143,7 @@ class Discretisation {
 
     occupied_.assign(nc, 0);
     match_layouts(particles, threaded);
-    // Set cell by cell below, on the threads (serial fills were a tenth of a 1D moving step on
-    // two threads).
+    // Set cell by cell below, on the threads, rather than by serial fills over every node.
     node_mass_.resize(grid.num_nodes());
     inv_mass_.resize(grid.num_nodes());
     source_corner_.resize(grid.num_nodes());
