@@ -176,15 +176,38 @@ class DGOperator {
   // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns),
   // `mass` the particles' masses.
   // A 2D cell of one particle (Discretisation::rank_one_cheaper) sums the products without
-  // forming K^l.
+  // forming K^l; where the flux is linear (physics::LinearFlux), F_l S_p is the flux of the state
+  // q S_p, without the nodes' fluxes.
   template <class Block>
   void add_volume_term(int c, const Block& q, const Eigen::VectorXd& mass, CellBlock& rc) const {
     const auto& mat = disc_.cell_material(c);
+    const bool rank_one = Disc::rank_one_cheaper(disc_.cell_end(c) - disc_.cell_begin(c));
+    if constexpr (physics::LinearFlux<Physics>) {
+      if (rank_one) {
+        disc_.add_stiffness_products(
+            c, mass,
+            [&](const auto& w) {
+              const State at = q * w;
+              std::array<State, dim> f;
+              for (int l = 0; l < dim; ++l) f[l] = Physics::specific_flux(l, at, mat);
+              return f;
+            },
+            rc);
+        return;
+      }
+    }
     std::array<CellBlock, dim> flux;
     for (int l = 0; l < dim; ++l)
       for (int a = 0; a < npc; ++a) flux[l].col(a) = Physics::specific_flux(l, q.col(a), mat);
-    if (Disc::rank_one_cheaper(disc_.cell_end(c) - disc_.cell_begin(c))) {
-      disc_.add_stiffness_products(c, mass, flux, rc);
+    if (rank_one) {
+      disc_.add_stiffness_products(
+          c, mass,
+          [&](const auto& w) {
+            std::array<State, dim> f;
+            for (int l = 0; l < dim; ++l) f[l] = flux[l] * w;
+            return f;
+          },
+          rc);
       return;
     }
     const auto apply = [&](const std::array<typename Disc::Stiffness, dim>& stiffness) {
@@ -386,8 +409,20 @@ class DGOperator {
         advance_cell<FluxScheme::dcu>(c, from, mass, t, dt, sweep, out);
         finish(c, out, sweep);
       };
-      if (!projection.qp) return sweep_cells(body);
-      return sweep_cells(body, ahead(reach, reach, project_one));
+      // A run of consecutive interior cells [c, e), in one call: each cell's work ahead
+      // (before_cell), its interior step and finish, then the sweep's next cell (next_cell).
+      const auto run = [&](int c, int e, Sweep& sweep, const auto& before_cell,
+                           const auto& next_cell) __attribute__((flatten)) {
+        for (int k = c; k < e; ++k) {
+          before_cell(k);
+          CellBlock out;
+          advance_interior_cell(k, from, mass, dt, sweep, out);
+          finish(k, out, sweep);
+          next_cell();
+        }
+      };
+      if (!projection.qp) return sweep_cells(body, interior_runs(run));
+      return sweep_cells(body, interior_runs(run), ahead(reach, reach, project_one));
     }
     if constexpr (corner_transport) {
       const auto body = [&](int c, Sweep& sweep) __attribute__((flatten)) {
@@ -398,17 +433,32 @@ class DGOperator {
       const auto faces = [&](int c) __attribute__((flatten)) {
         own_faces(c, from, t, dt);
       };
-      if (!projection.qp) return sweep_cells(body, ahead(2 * reach, 2 * reach, faces));
-      return sweep_cells(body, ahead(3 * reach, 3 * reach, project_one),
+      if (!projection.qp)
+        return sweep_cells(body, NoInteriorRuns{}, ahead(2 * reach, 2 * reach, faces));
+      return sweep_cells(body, NoInteriorRuns{}, ahead(3 * reach, 3 * reach, project_one),
                          ahead(2 * reach, 2 * reach, faces));
     }
     return true;
   }
 
-  // Calls body(c, sweep) on every occupied cell, on threads over contiguous ranges of cells, with
-  // the work ahead of it; returns whether every block the bodies checked (Sweep::check) is finite.
-  template <class Body, class... Work>
-  bool sweep_cells(Body&& body, const Ahead<Work>&... ahead) const {
+  // How a sweep steps interior cells (Discretisation::interior): by body, cell by cell, or by
+  // run(c, e, sweep, before_cell, next_cell) over each run of consecutive ones.
+  struct NoInteriorRuns {};
+  template <class Run>
+  struct InteriorRuns {
+    Run run;
+  };
+  // (A function, as for Ahead: clang 14 deduces no aggregate of a member template.)
+  template <class Run>
+  static InteriorRuns<Run> interior_runs(Run run) {
+    return {run};
+  }
+
+  // Calls body(c, sweep) on every occupied cell (interior cells: runs.run over their runs, when
+  // given), on threads over contiguous ranges of cells, with the work ahead of it; returns whether
+  // every block the bodies checked (Sweep::check) is finite.
+  template <class Body, class Runs, class... Work>
+  bool sweep_cells(Body&& body, const Runs& runs, const Ahead<Work>&... ahead) const {
     const int n = disc_.num_cells();
     int threads = 1;
 #ifdef _OPENMP
@@ -437,15 +487,31 @@ class DGOperator {
         slots += faces_.stride(l);
       }
       for (int l = 0; l < dim; ++l) sweep.slot[l] = sweep.begin % faces_.stride(l);
-      for (int c = sweep.begin; c < sweep.end; ++c) {
+      const auto before_cell = [&](int c) {
         [[maybe_unused]] const auto during = [&](const auto& a) {
           const int x = c + a.lead;
           if (x >= sweep.begin + a.lead && x < sweep.end - a.tail) a.work(x);
         };
         (during(ahead), ...);
-        if (disc_.occupied(c)) body(c, sweep);
+      };
+      const auto next_cell = [&] {
         for (int l = 0; l < dim; ++l)
           if (++sweep.slot[l] == faces_.stride(l)) sweep.slot[l] = 0;
+      };
+      for (int c = sweep.begin; c < sweep.end;) {
+        if constexpr (!std::is_same_v<Runs, NoInteriorRuns>) {
+          if (disc_.interior(c)) {
+            int e = c + 1;
+            while (e < sweep.end && disc_.interior(e)) ++e;
+            runs.run(c, e, sweep, before_cell, next_cell);
+            c = e;
+            continue;
+          }
+        }
+        before_cell(c);
+        if (disc_.occupied(c)) body(c, sweep);
+        next_cell();
+        ++c;
       }
       finite = sweep.nonfinite.allFinite();
     }
@@ -528,8 +594,6 @@ class DGOperator {
   [[gnu::always_inline]] inline void advance_cell(int c, const NodalField& qn,
                                                   const Eigen::VectorXd& mass, double t, double dt,
                                                   const Sweep& sweep, CellBlock& out) const {
-    if constexpr (scheme == FluxScheme::dcu)
-      if (disc_.interior(c)) return advance_interior_cell(c, qn, mass, dt, sweep, out);
     CellBlock rc;
     cell_residual<scheme>(c, qn, mass, t, sweep, rc);
     if (disc_.has_massless_nodes())
@@ -545,7 +609,8 @@ class DGOperator {
     }
   }
 
-  // advance_cell<dcu> of an interior cell (Discretisation::interior): its neighbours are
+  // What a sweep's run of interior cells (Discretisation::interior) steps in place of
+  // advance_cell<dcu>: a cell whose neighbours are
   // c +- stride_l, occupied, of its material; no face is a boundary and no node massless. The
   // same operations in the same order as the general path: the same values to the last bit
   // (tests/solver_shared_layout.cpp).
