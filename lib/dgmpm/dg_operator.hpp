@@ -176,38 +176,15 @@ class DGOperator {
   // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns),
   // `mass` the particles' masses.
   // A 2D cell of one particle (Discretisation::rank_one_cheaper) sums the products without
-  // forming K^l; where the flux is linear (physics::LinearFlux), F_l S_p is the flux of the state
-  // q S_p, without the nodes' fluxes.
+  // forming K^l.
   template <class Block>
   void add_volume_term(int c, const Block& q, const Eigen::VectorXd& mass, CellBlock& rc) const {
     const auto& mat = disc_.cell_material(c);
-    const bool rank_one = Disc::rank_one_cheaper(disc_.cell_end(c) - disc_.cell_begin(c));
-    if constexpr (physics::LinearFlux<Physics>) {
-      if (rank_one) {
-        disc_.add_stiffness_products(
-            c, mass,
-            [&](const auto& w) {
-              const State at = q * w;
-              std::array<State, dim> f;
-              for (int l = 0; l < dim; ++l) f[l] = Physics::specific_flux(l, at, mat);
-              return f;
-            },
-            rc);
-        return;
-      }
-    }
     std::array<CellBlock, dim> flux;
     for (int l = 0; l < dim; ++l)
       for (int a = 0; a < npc; ++a) flux[l].col(a) = Physics::specific_flux(l, q.col(a), mat);
-    if (rank_one) {
-      disc_.add_stiffness_products(
-          c, mass,
-          [&](const auto& w) {
-            std::array<State, dim> f;
-            for (int l = 0; l < dim; ++l) f[l] = flux[l] * w;
-            return f;
-          },
-          rc);
+    if (Disc::rank_one_cheaper(disc_.cell_end(c) - disc_.cell_begin(c))) {
+      disc_.add_stiffness_products(c, mass, flux, rc);
       return;
     }
     const auto apply = [&](const std::array<typename Disc::Stiffness, dim>& stiffness) {
@@ -610,10 +587,9 @@ class DGOperator {
   }
 
   // What a sweep's run of interior cells (Discretisation::interior) steps in place of
-  // advance_cell<dcu>: a cell whose neighbours are
-  // c +- stride_l, occupied, of its material; no face is a boundary and no node massless. The
-  // same operations in the same order as the general path: the same values to the last bit
-  // (tests/solver_shared_layout.cpp).
+  // advance_cell<dcu>: a cell whose neighbours are c +- stride_l, occupied, of its material; no
+  // face is a boundary and no node massless. The same operations in the same order as the general
+  // path: the same values to the last bit (tests/solver_shared_layout.cpp).
   [[gnu::always_inline]] inline void advance_interior_cell(int c, const NodalField& qn,
                                                            const Eigen::VectorXd& mass, double dt,
                                                            const Sweep& sweep,
