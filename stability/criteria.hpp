@@ -90,8 +90,9 @@ class L2Criterion {
   // it does, a value above it that is not the maximum (cheaper: refinements are skipped).
   L2Margin margin(double courant, double stop_above = std::numeric_limits<double>::infinity());
   // The margin, and in 2D also at the maximum of a growth search near the neutral lines and the
-  // origin (growth(C, false)), which the margin's scan and slopes can miss between their points:
-  // what a search accepts C* with.
+  // origin (growth(C, false)) and at the largest long-wave limit over 128 directions, which the
+  // margin's scan, slopes and 16 rays can miss between their points: what a search accepts C*
+  // with.
   L2Margin checked_margin(double courant,
                           double stop_above = std::numeric_limits<double>::infinity());
   // 2D: the margin on a 3 x 4 scan of the half torus (spacing pi / 2) and 4 rays, without slopes

@@ -8,9 +8,9 @@
 
 #include "stability/criteria.hpp"
 
+#include "stability/brent_maximum.hpp"
 #include "stability/gsl_guard.hpp"
 
-#include <gsl/gsl_min.h>
 #include <gsl/gsl_multimin.h>
 
 #include <algorithm>
@@ -54,29 +54,6 @@ struct Along {
     return (*surface)(line->tx0 + line->ux * d, line->ty0 + line->uy * d);
   }
 };
-// The maximum of f along [lo, hi] near `best` (a grid maximum with value f_best), by Brent.
-template <class F>
-void refine_1d(F f_of, double lo, double best, double hi, double f_lo, double f_best, double f_hi,
-               double& value, double& where) {
-  value = f_best, where = best;
-  if (!(f_best > f_lo && f_best > f_hi)) return;
-  GslErrorsAsCodes guard;
-  gsl_function f{[](double x, void* d) { return -(*static_cast<F*>(d))(x); }, &f_of};
-  gsl_min_fminimizer* s = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent);
-  if (gsl_min_fminimizer_set_with_values(s, &f, best, -f_best, lo, -f_lo, hi, -f_hi) ==
-      GSL_SUCCESS) {
-    for (int it = 0; it < 60; ++it) {
-      if (gsl_min_fminimizer_iterate(s) != GSL_SUCCESS) break;
-      if (gsl_min_test_interval(gsl_min_fminimizer_x_lower(s), gsl_min_fminimizer_x_upper(s),
-                                1e-3 * best, 0.0) == GSL_SUCCESS)
-        break;
-    }
-    const double v = -gsl_min_fminimizer_f_minimum(s);
-    if (v > value) value = v, where = gsl_min_fminimizer_x_minimum(s);
-  }
-  gsl_min_fminimizer_free(s);
-}
-
 double negated_surface(const gsl_vector* x, void* surface) {
   return -(*static_cast<const Surface*>(surface))(gsl_vector_get(x, 0), gsl_vector_get(x, 1));
 }
@@ -132,8 +109,8 @@ L2Growth family_growth(const FamilySpectrum& spectrum, int dim, bool uniform,
     // Between the neighbouring points of the scan.
     if (b > 0 && b + 1 < points.size()) {
       auto along = [&](double t) { return f(t, 0.0); };
-      refine_1d(along, points[b - 1].tx, best.tx, points[b + 1].tx, points[b - 1].value, best.value,
-                points[b + 1].value, value, tx);
+      brent_maximum(along, points[b - 1].tx, best.tx, points[b + 1].tx, points[b - 1].value,
+                    best.value, points[b + 1].value, 1e-3 * best.tx, value, tx);
     }
     return {value, tx, 0.0, 0};
   }
@@ -144,7 +121,8 @@ L2Growth family_growth(const FamilySpectrum& spectrum, int dim, bool uniform,
     auto g = [&](double d) { return along.at(d); };
     const double lo = best.distance / kNearRatio, hi = std::min(best.distance * kNearRatio, h);
     double where = best.distance;
-    refine_1d(g, lo, best.distance, hi, g(lo), best.value, g(hi), value, where);
+    brent_maximum(g, lo, best.distance, hi, g(lo), best.value, g(hi), 1e-3 * best.distance, value,
+                  where);
     tx = best.tx0 + best.ux * where, ty = best.ty0 + best.uy * where;
   } else {
     GslErrorsAsCodes guard;
