@@ -176,15 +176,38 @@ class DGOperator {
   // rc += sum_l F^s_l(q) K^l^T: cell c's volume term from its nodal values q (npc columns),
   // `mass` the particles' masses.
   // A 2D cell of one particle (Discretisation::rank_one_cheaper) sums the products without
-  // forming K^l.
+  // forming K^l; where the flux is linear (physics::LinearFlux), F_l S_p is the flux of the state
+  // q S_p, without the nodes' fluxes.
   template <class Block>
   void add_volume_term(int c, const Block& q, const Eigen::VectorXd& mass, CellBlock& rc) const {
     const auto& mat = disc_.cell_material(c);
+    const bool rank_one = Disc::rank_one_cheaper(disc_.cell_end(c) - disc_.cell_begin(c));
+    if constexpr (physics::LinearFlux<Physics>) {
+      if (rank_one) {
+        disc_.add_stiffness_products(
+            c, mass,
+            [&](const auto& w) {
+              const State at = q * w;
+              std::array<State, dim> f;
+              for (int l = 0; l < dim; ++l) f[l] = Physics::specific_flux(l, at, mat);
+              return f;
+            },
+            rc);
+        return;
+      }
+    }
     std::array<CellBlock, dim> flux;
     for (int l = 0; l < dim; ++l)
       for (int a = 0; a < npc; ++a) flux[l].col(a) = Physics::specific_flux(l, q.col(a), mat);
-    if (Disc::rank_one_cheaper(disc_.cell_end(c) - disc_.cell_begin(c))) {
-      disc_.add_stiffness_products(c, mass, flux, rc);
+    if (rank_one) {
+      disc_.add_stiffness_products(
+          c, mass,
+          [&](const auto& w) {
+            std::array<State, dim> f;
+            for (int l = 0; l < dim; ++l) f[l] = flux[l] * w;
+            return f;
+          },
+          rc);
       return;
     }
     const auto apply = [&](const std::array<typename Disc::Stiffness, dim>& stiffness) {

@@ -297,20 +297,24 @@ class Discretisation {
   // rc += sum_l F_l K^l^T (F_l: npc columns of fluxes along l) without forming K^l: the sum over
   // the cell's particles of m_p (F_l S_p) (grad_l S_p)^T, plus the consistency correction
   // (F_l u) d_l^T of make_consistent. Fewer operations than stiffness() and the products for a
-  // single particle in 2D (rank_one_cheaper); equal to them to round-off.
-  template <int NComp, class Out>
-  void add_stiffness_products(int c, const Eigen::VectorXd& mass,
-                              const std::array<Eigen::Matrix<double, NComp, npc>, dim>& flux,
+  // single particle in 2D (rank_one_cheaper); equal to them to round-off. `fluxes_times(w)`
+  // returns F_l w for every l, w a vector of npc weights (a physics whose flux is linear takes it
+  // as the flux of the state q w, not from the fluxes of the nodes: physics::LinearFlux).
+  template <class FluxesTimes, class Out>
+  void add_stiffness_products(int c, const Eigen::VectorXd& mass, const FluxesTimes& fluxes_times,
                               Out& rc) const {
     if (shares_layout(c)) {  // the sums below with the shared layout's values and defects
-      for (int j = 0; j < shared_.count; ++j)
-        for (int l = 0; l < dim; ++l) {
-          const Eigen::Matrix<double, NComp, 1> at = shared_.mass[j] * (flux[l] * shared_.shape[j]);
-          rc.noalias() += at * shared_.gradient[j].row(l);
-        }
-      for (int l = 0; l < dim; ++l)
-        if (shared_.defective[l])
-          rc.noalias() += (flux[l] * shared_.mass_share) * shared_.defect[l].transpose();
+      for (int j = 0; j < shared_.count; ++j) {
+        const auto at = fluxes_times(shared_.shape[j]);
+        for (int l = 0; l < dim; ++l)
+          rc.noalias() += (shared_.mass[j] * at[l]) * shared_.gradient[j].row(l);
+      }
+      if (std::any_of(shared_.defective.begin(), shared_.defective.end(),
+                      [](bool b) { return b; })) {
+        const auto at = fluxes_times(shared_.mass_share);
+        for (int l = 0; l < dim; ++l)
+          if (shared_.defective[l]) rc.noalias() += at[l] * shared_.defect[l].transpose();
+      }
       return;
     }
     std::array<typename Shape::Values, dim> row_sums;  // K^l 1
@@ -318,18 +322,21 @@ class Discretisation {
     typename Shape::Values share;
     const double cell = visit_shapes(c, mass, share, [&](double m, const auto& s, const auto& g) {
       const double sum = s.sum();
+      const auto at = fluxes_times(s);
       for (int l = 0; l < dim; ++l) {
-        const Eigen::Matrix<double, NComp, 1> at = m * (flux[l] * s);
-        rc.noalias() += at * g.row(l);
+        rc.noalias() += (m * at[l]) * g.row(l);
         row_sums[l] += (m * sum) * g.row(l).transpose();
       }
     });
     if (formulation_ != Formulation::consistent || cell <= 0.0) return;
     const typename Shape::Values u = share / cell;
-    for (int l = 0; l < dim; ++l) {
-      typename Shape::Values d;
-      if (consistency_defect(c, l, row_sums[l], d)) rc.noalias() += (flux[l] * u) * d.transpose();
-    }
+    std::array<typename Shape::Values, dim> d;
+    std::array<bool, dim> defective;
+    for (int l = 0; l < dim; ++l) defective[l] = consistency_defect(c, l, row_sums[l], d[l]);
+    if (std::none_of(defective.begin(), defective.end(), [](bool b) { return b; })) return;
+    const auto at = fluxes_times(u);
+    for (int l = 0; l < dim; ++l)
+      if (defective[l]) rc.noalias() += at[l] * d[l].transpose();
   }
   // f(m_p, S(x_p), grad S(x_p)) for each particle p of cell c, in order; returns the cell's mass
   // and sets `share` to sum_p m_p S(x_p).

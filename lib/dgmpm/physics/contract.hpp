@@ -61,6 +61,15 @@ concept ConservationLaw = requires(const typename P::State& q, const typename P:
   requires GhostBoundary<P> || DirectBoundary<P>;
 };
 
+// A physics whose volume-term flux specific_flux(axis, q, m) is linear in q declares
+// `static constexpr bool linear_flux = true`: the operator may then take the flux of an
+// interpolated state for the interpolation of the nodes' fluxes (tests/lib_volume_term.cpp checks
+// the declaration).
+template <class P>
+concept LinearFlux = requires {
+  requires P::linear_flux;
+};
+
 // CTU in 2D: the fluctuations entering a cell, their transverse split and what a boundary does to
 // a transverse wave. The split is linearised in a "medium" per cell side of the crossed face: the
 // cell's material, or, where the waves depend on the state (finite strain), what

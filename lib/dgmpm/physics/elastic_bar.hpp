@@ -62,7 +62,8 @@ struct ElasticBar {
     return {sigma / m.density, v};
   }
 
-  // Specific flux F^s = F / rho along the axis.
+  // Specific flux F^s = F / rho along the axis, linear in q (physics::LinearFlux).
+  static constexpr bool linear_flux = true;
   static State specific_flux(int /*axis*/, const State& q, const Material& m) {
     return {-m.specific_modulus() * q[1], -q[0]};
   }

@@ -142,7 +142,8 @@ struct PlaneStrain {
     return sigma_zz(physical_state, m);
   }
 
-  // F^s = F / rho along `axis`.
+  // F^s = F / rho along `axis`, linear in q (physics::LinearFlux).
+  static constexpr bool linear_flux = true;
   static State specific_flux(int axis, const State& q, const Material& m) {
     const double vn = q[normal_velocity(axis)], vt = q[tangential_velocity(axis)];
     const double inv = m.inverse_density();
