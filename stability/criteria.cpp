@@ -590,11 +590,11 @@ TorusSymmetry detect_torus_symmetry(const StencilFamily& family, const CellLayou
 
 // Long waves between the margin's rays. The limit at 0 along a direction can peak in a cone
 // narrower than the rays' spacing (pi / 16): one particle off the centre on both axes, under
-// RK2, has a cone 0.059 rad off the x axis, 0.01 rad wide where it crosses 0, and its limit
-// there rises from -3.5e-6 to +6.3e-6 within 1e-5 of C* (a double eigenvalue splitting). So
-// the check samples kCheckRays directions of the half plane and refines the largest interior
-// local maxima by Brent. The axis directions, along the neutral lines, are local maxima of value
-// 0 (rho = 1 there): a cone closer to an axis than one spacing (0.025 rad) is not resolved.
+// RK2, has a cone 0.059 rad off an axis, 0.01 rad wide where it crosses 0, and its limit
+// there rises from -3.5e-6 to +6.3e-6 within 1e-5 of C*. So the check samples kCheckRays directions
+// of the half plane and refines the largest interior local maxima by Brent. The axis directions,
+// along the neutral lines, are local maxima of value 0 (rho = 1 there): a cone closer to an axis
+// than one spacing (0.025 rad) is not resolved.
 constexpr int kCheckRays = 128;
 constexpr std::size_t kCheckRaysRefined = 4;
 

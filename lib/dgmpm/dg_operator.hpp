@@ -125,7 +125,7 @@ class DGOperator {
     q.resize(ncomp, num_nodes());
     return advance(Projection{&qp, &q}, mass, q, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       interpolate_cell(c, out, qp, particle_step);
-      sweep.check(out);
+      check_particles(c, qp, sweep);
     });
   }
 
@@ -160,7 +160,7 @@ class DGOperator {
       out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
       if (damped && disc_.near_empty(c)) out += 0.5 * excess.template middleCols<npc>(c * npc);
       interpolate_cell(c, out, qp, particle_step);
-      sweep.check(out);
+      check_particles(c, qp, sweep);
     });
   }
 
@@ -358,10 +358,17 @@ class DGOperator {
     int begin = 0, end = 0;
     std::array<State*, dim> stars{};
     std::array<int, dim> slot{};  // c mod stride_l, kept by the loop (no division per cell)
-    // 0 * x is 0 for finite x, NaN otherwise: summed over the checked blocks, without a branch.
-    CellBlock nonfinite = CellBlock::Zero();
-    void check(const CellBlock& block) { nonfinite += 0.0 * block; }
+    // 0 * x is 0 for finite x, NaN otherwise: summed over the checked states, without a branch.
+    State nonfinite = State::Zero();
   };
+
+  // Sums 0 * the new states of cell c's particles into the sweep's check: what the stage wrote,
+  // after the particle step (a cell's particles are fewer values than its nodes at one or two
+  // per cell, and a nonfinite node reaches every particle of its cell).
+  void check_particles(int c, const ParticleField& qp, Sweep& sweep) const {
+    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)
+      sweep.nonfinite += 0.0 * qp.col(disc_.entry_particle(e));
+  }
 
   // Particles projected by a sweep on the fly (none when qp is null).
   struct Projection {
