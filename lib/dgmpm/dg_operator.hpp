@@ -124,8 +124,7 @@ class DGOperator {
                                         const ParticleStep& particle_step = {}) const {
     q.resize(ncomp, num_nodes());
     return advance(Projection{&qp, &q}, mass, q, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
-      interpolate_cell(c, out, qp, particle_step);
-      check_particles(c, qp, sweep);
+      interpolate_cell(c, out, qp, particle_step, [&](const auto& s) { sweep.check(s); });
     });
   }
 
@@ -159,8 +158,7 @@ class DGOperator {
     return advance(Projection{}, mass, q1, t, dt, [&](int c, CellBlock& out, Sweep& sweep) {
       out = 0.5 * (q0.template middleCols<npc>(c * npc) + out);
       if (damped && disc_.near_empty(c)) out += 0.5 * excess.template middleCols<npc>(c * npc);
-      interpolate_cell(c, out, qp, particle_step);
-      check_particles(c, qp, sweep);
+      interpolate_cell(c, out, qp, particle_step, [&](const auto& s) { sweep.check(s); });
     });
   }
 
@@ -336,14 +334,17 @@ class DGOperator {
     }
   }
 
-  template <class Block, class ParticleStep = NoParticleStep>
+  // Cell c's particles from its nodal values, then `particle_step` at each; `check` sees each new
+  // state as it is written.
+  template <class Block, class ParticleStep, class Check>
   void interpolate_cell(int c, const Block& block, ParticleField& qp,
-                        const ParticleStep& particle_step = {}) const {
+                        const ParticleStep& particle_step, const Check& check) const {
     const int begin = disc_.cell_begin(c), end = disc_.cell_end(c);
     const auto each = [&](int e, const auto& shape) {
       const int p = disc_.entry_particle(e);
       qp.col(p).noalias() = block * shape;
       if constexpr (!std::is_same_v<ParticleStep, NoParticleStep>) particle_step(p, qp.col(p));
+      check(qp.col(p));
     };
     if (disc_.shares_layout(c))
       for (int e = begin; e < end; ++e) each(e, disc_.shared_shape(e - begin));
@@ -359,16 +360,15 @@ class DGOperator {
     std::array<State*, dim> stars{};
     std::array<int, dim> slot{};  // c mod stride_l, kept by the loop (no division per cell)
     // 0 * x is 0 for finite x, NaN otherwise: summed over the checked states, without a branch.
+    // A stage checks its new particle states, after the particle step (fewer values than the
+    // cell's nodes at one or two particles per cell; a nonfinite node reaches every particle of
+    // its cell).
     State nonfinite = State::Zero();
+    template <class S>
+    void check(const S& state) {
+      nonfinite += 0.0 * state;
+    }
   };
-
-  // Sums 0 * the new states of cell c's particles into the sweep's check: what the stage wrote,
-  // after the particle step (a cell's particles are fewer values than its nodes at one or two
-  // per cell, and a nonfinite node reaches every particle of its cell).
-  void check_particles(int c, const ParticleField& qp, Sweep& sweep) const {
-    for (int e = disc_.cell_begin(c); e < disc_.cell_end(c); ++e)
-      sweep.nonfinite += 0.0 * qp.col(disc_.entry_particle(e));
-  }
 
   // Particles projected by a sweep on the fly (none when qp is null).
   struct Projection {
