@@ -67,6 +67,7 @@ class Mpm {
   Mpm(const Grid<Dim>& grid, const Boundaries<Dim>& bc, std::vector<Material> materials,
       MpmVariant variant, MpmVelocityUpdate update)
       : grid_(grid), bc_(bc), materials_(std::move(materials)), variant_(variant), update_(update) {
+    inverse_h_ = grid_.cell_size.cwiseInverse();
     num_nodes_ = 1;
     for (int l = 0; l < Dim; ++l) {
       nodes_[l] = grid_.cells[l] + (grid_.periodic[l] ? 0 : 1);
@@ -95,44 +96,59 @@ class Mpm {
   const NodalVectors& node_velocity_old() const { return vel_old_; }
   const NodalVectors& node_velocity_new() const { return vel_new_; }
 
-  // One step from t to t + dt. Allocation-free once the particle count is reached. Throws
-  // ParticleOutsideGrid for a particle outside the grid, before any change at the start of the
-  // step, or after the move that took it out.
+  // One step from t to t + dt; returns whether every new particle state is finite (each pass
+  // back to the particles checks the states it writes). Allocation-free once the particle count
+  // is reached. Throws ParticleOutsideGrid for a particle outside the grid, before any change at
+  // the start of the step, or after the move that took it out.
   // The transfers are fused: one scatter to the grid of mass, momentum and (USL, MUSL) internal
-  // force, one pass back to the particles of velocity, stress (USL, USF) and position.
-  void step(ParticleSet& particles, double t, double dt, bool move_particles) {
+  // force, one pass over the nodes for v^n and v^{n+1} (USL, MUSL), one pass back to the
+  // particles of velocity, stress (USL, USF) and position. Particles that do not move are located
+  // once: their nodes and cell coordinates are kept from step to step (as DGMPM keeps its cell
+  // lists), until a step moves them or relocate().
+  bool step(ParticleSet& particles, double t, double dt, bool move_particles) {
     const bool usf = variant_ == MpmVariant::usf, musl = variant_ == MpmVariant::musl;
-    locate(particles);
-    force_.setZero(Dim, num_nodes_);
-    project_mass_momentum(particles, vel_old_, !usf);
-    apply_velocity_bc(vel_old_, t, &load_work_);
-    if (usf) {  // the stress from v^n, then its force
-      to_particles(particles, dt, {.stress_from = &vel_old_});
-      scatter(particles.size(), [&](int p) { add_internal_force(particles, p); });
-    }
-    loaded_nodes_.clear();
-    add_traction(t);
+    if (!located_ || node_.cols() != particles.size()) locate(particles);
+    if (move_particles) located_ = false;  // located again next step, even if this one throws
+    const int np = particles.size();
     vel_new_.resize(Dim, num_nodes_);
-#pragma omp parallel for schedule(static) if (threaded(particles.size()))
-    for (int i = 0; i < num_nodes_; ++i)
-      vel_new_.col(i) =
-          mass_[i] > 0.0 ? Vec(vel_old_.col(i) + (dt / mass_[i]) * force_.col(i)) : Vec::Zero();
+    loaded_nodes_.clear();
+    zero_nodes(vel_old_, &force_, np);
+    project_mass_momentum(particles, vel_old_, !usf);
+    if (usf) {  // v^n constrained, the stress from it, then its force
+      nodal_velocities(vel_old_, nullptr, dt, np);
+      apply_velocity_bc(vel_old_, t, &load_work_);
+      to_particles(particles, dt, {.stress_from = &vel_old_});
+      scatter(np, [&](int p) { add_internal_force(particles, p); });
+      add_traction(t);
+#pragma omp parallel for schedule(static) if (threaded(np))
+      for (int i = 0; i < num_nodes_; ++i) vel_new_.col(i) = advanced(i, vel_old_.col(i), dt);
+    } else {  // v^n and v^{n+1} in one pass (the constraints on v^n change no free v^{n+1})
+      add_traction(t);
+      nodal_velocities(vel_old_, &vel_new_, dt, np);
+      apply_velocity_bc(vel_old_, t, &load_work_);
+    }
     for (const auto& [i, f] : loaded_nodes_)
       load_work_ += 0.5 * dt * f.dot(vel_old_.col(i) + vel_new_.col(i));
     apply_velocity_bc(vel_new_, t + dt, &load_work_);
-    if (!musl) {
-      to_particles(particles, dt,
-                   {.velocity = true,
-                    .stress_from = usf ? nullptr : &vel_new_,
-                    .move_with = move_particles ? &vel_new_ : nullptr});
-      return;
-    }
+    if (!musl)
+      return to_particles(particles, dt,
+                          {.velocity = true,
+                           .stress_from = usf ? nullptr : &vel_new_,
+                           .move_with = move_particles ? &vel_new_ : nullptr});
     // MUSL: the new particle velocities projected again, then stress and move from them.
     to_particles(particles, dt, {.velocity = true});
+    zero_nodes(vel_musl_, nullptr, np);
     project_mass_momentum(particles, vel_musl_, false);
+    nodal_velocities(vel_musl_, nullptr, dt, np);
     apply_velocity_bc(vel_musl_, t + dt);
-    to_particles(particles, dt,
-                 {.stress_from = &vel_musl_, .move_with = move_particles ? &vel_musl_ : nullptr});
+    return to_particles(
+        particles, dt,
+        {.stress_from = &vel_musl_, .move_with = move_particles ? &vel_musl_ : nullptr});
+  }
+
+  // The particles changed other than by step (a restart): locate them at the next step.
+  void relocate() {
+    located_ = false;
   }
 
   // Energy the boundaries gave the body so far: work of the tractions on the nodal velocities
@@ -157,8 +173,8 @@ class Mpm {
   // physics' particle step (a constitutive correction) where it has one, as DGMPM's sweep does.
   void update_stress(ParticleSet& ps, int p, const NodalVectors& v, double dt) const {
     Tensor grad = Tensor::Zero();  // (i, j): dv_i / dx_j
-    for (int a = 0; a < npc; ++a)
-      grad.noalias() += v.col(node_(a, p)) * grad_.template block<Dim, 1>(a * Dim, p).transpose();
+    const auto g = gradients(p);
+    for (int a = 0; a < npc; ++a) grad.noalias() += v.col(node_(a, p)) * g.col(a).transpose();
     auto q = ps.state.col(p);
     Physics::add_stress_rate(q, grad, materials_[ps.material[p]], dt);
     if constexpr (physics::ParticleStepPhysics<Physics>)
@@ -168,13 +184,21 @@ class Mpm {
   void add_internal_force(const ParticleSet& ps, int p) {
     const Tensor vs =
         ps.volume[p] * Physics::stress_tensor(ps.state.col(p), materials_[ps.material[p]]);
-    for (int a = 0; a < npc; ++a)
-      force_.col(node_(a, p)).noalias() -= vs * grad_.template block<Dim, 1>(a * Dim, p);
+    const auto g = gradients(p);
+    for (int a = 0; a < npc; ++a) force_.col(node_(a, p)).noalias() -= vs * g.col(a);
   }
 
   // --- generic part ------------------------------------------------------------------------------
   bool threaded(int np) const {
     return np >= kThreadedParticles;
+  }
+  // Shape values and gradients at particle p, from its cell coordinates (as cheap to compute as
+  // to read: 12 numbers in 2D against 2).
+  typename CellShape<Dim>::Values shape(int p) const {
+    return CellShape<Dim>::values(xi_.col(p));
+  }
+  typename CellShape<Dim>::Gradients gradients(int p) const {
+    return CellShape<Dim>::gradients(xi_.col(p), inverse_h_);
   }
 
   // Calls add(p) for every particle p, on threads where there are many, each node receiving its
@@ -182,7 +206,8 @@ class Mpm {
   // (rows) are grouped into kScatterBlocks blocks of consecutive rows, coloured even and odd (and
   // a periodic axis' last block alone when their count is odd: it shares nodes with block 0). Two
   // blocks of a colour share no node, so a colour's blocks are split between the threads; a node
-  // receives a colour's particles from one block, in particle order.
+  // receives a colour's particles from one block, in particle order (locate lists each block's
+  // particles in that order: a thread reads only its blocks' particles).
   static constexpr int kScatterBlocks = 64;
   int scatter_blocks() const {
     return std::min(grid_.cells[Dim - 1], kScatterBlocks);
@@ -196,62 +221,117 @@ class Mpm {
     {
       const Share mine = thread_share(blocks, team_place());
       for (int c = 0; c < (wrap ? 3 : 2); ++c) {
-        for (int p = 0; p < np; ++p) {
-          const int block = block_[p];
-          if (block >= mine.begin && block < mine.end && colour(block) == c) add(p);
-        }
+        for (int b = mine.begin; b < mine.end; ++b)
+          if (colour(b) == c)
+            for (int e = block_begin_[b]; e < block_begin_[b + 1]; ++e) add(by_block_[e]);
 #pragma omp barrier
       }
     }
   }
 
-  // Nodes, shape values and gradients of every particle, and its cell's block (scatter).
+  // Nodes and cell coordinates of every particle, and the particles of each scatter block
+  // in particle order (a stable counting sort: each thread counts its share's blocks, then places
+  // its share after the shares before it in each block).
   void locate(const ParticleSet& ps) {
     const int np = ps.size();
     node_.resize(npc, np);
-    shape_.resize(npc, np);
-    grad_.resize(npc * Dim, np);
+    xi_.resize(Dim, np);
     block_.resize(np);
-    const long rows = grid_.cells[Dim - 1], blocks = scatter_blocks();
-    const Vec inverse_h = grid_.cell_size.cwiseInverse();
+    by_block_.resize(np);
+    const int blocks = scatter_blocks();
+    const long rows = grid_.cells[Dim - 1];
+    int threads = 1;
+#ifdef _OPENMP
+    if (threaded(np)) threads = omp_get_max_threads();
+#endif
+    block_begin_.resize(blocks + 1);
+    block_place_.resize(static_cast<std::size_t>(threads) * blocks);
     int outside = np;  // the first particle outside the grid
-#pragma omp parallel for schedule(static) reduction(min : outside) if (threaded(np))
-    for (int p = 0; p < np; ++p) {
-      Vec xi;
-      const int c = grid_.locate(ps.position.col(p), xi);
-      if (c < 0) {
-        outside = std::min(outside, p);
-        continue;
+#pragma omp parallel num_threads(threads) if (threads > 1) reduction(min : outside)
+    {
+      const TeamPlace place = team_place();
+      const Share share = thread_share(np, place);
+      int* count = block_place_.data() + static_cast<std::size_t>(place.thread) * blocks;
+      std::fill(count, count + blocks, 0);
+      for (int p = share.begin; p < share.end; ++p) {
+        Vec xi;
+        const int c = grid_.locate(ps.position.col(p), xi);
+        if (c < 0) {
+          outside = std::min(outside, p);
+          block_[p] = -1;  // placed nowhere: the step throws
+          continue;
+        }
+        xi_.col(p) = xi;
+        const auto k = grid_.unflatten(c);
+        block_[p] = static_cast<int>(k[Dim - 1] * blocks / rows);
+        ++count[block_[p]];
+        for (int a = 0; a < npc; ++a) node_(a, p) = node(k, a);
       }
-      const auto k = grid_.unflatten(c);
-      block_[p] = static_cast<int>(k[Dim - 1] * blocks / rows);
-      for (int a = 0; a < npc; ++a) node_(a, p) = node(k, a);
-      shape_.col(p) = CellShape<Dim>::values(xi);
-      const auto g = CellShape<Dim>::gradients(xi, inverse_h);
-      for (int a = 0; a < npc; ++a) grad_.template block<Dim, 1>(a * Dim, p) = g.col(a);
+#pragma omp barrier
+#pragma omp single
+      {
+        int next = 0;  // block by block, each thread's share in thread order
+        for (int b = 0; b < blocks; ++b) {
+          block_begin_[b] = next;
+          for (int t = 0; t < place.team; ++t) {
+            int& place_of = block_place_[static_cast<std::size_t>(t) * blocks + b];
+            const int n = place_of;
+            place_of = next;
+            next += n;
+          }
+        }
+        block_begin_[blocks] = next;
+      }  // (an implicit barrier)
+      for (int p = share.begin; p < share.end; ++p)
+        if (block_[p] >= 0) by_block_[count[block_[p]]++] = p;
     }
     if (outside < np) throw_outside_grid(ps, outside);
+    located_ = true;
   }
 
-  // Lumped mass and nodal velocity p_i / m_i (zero on massless nodes), and with `force` the
-  // internal force, in one scatter.
+  // Nodal mass, momentum v and (when given) force zeroed in one pass, on the threads (three
+  // serial fills were 8% of a USL step on one thread, and not shared on two).
+  void zero_nodes(NodalVectors& v, NodalVectors* force, int np) {
+    mass_.resize(num_nodes_);
+    v.resize(Dim, num_nodes_);
+    if (force) force->resize(Dim, num_nodes_);
+#pragma omp parallel for schedule(static) if (threaded(np))
+    for (int i = 0; i < num_nodes_; ++i) {
+      mass_[i] = 0.0;
+      v.col(i).setZero();
+      if (force) force->col(i).setZero();
+    }
+  }
+
+  // Lumped mass and nodal momentum p_i, and with `force` the internal force, in one scatter (onto
+  // zeroed nodes).
   void project_mass_momentum(const ParticleSet& ps, NodalVectors& v, bool force) {
-    mass_.setZero(num_nodes_);
-    v.setZero(Dim, num_nodes_);
     const int np = ps.size();
     scatter(np, [&](int p) {
       const Vec vp = particle_velocity(ps, p);
+      const auto s = shape(p);
       for (int a = 0; a < npc; ++a) {
         const int i = node_(a, p);
-        const double w = shape_(a, p) * ps.mass[p];
+        const double w = s[a] * ps.mass[p];
         mass_[i] += w;
         v.col(i) += w * vp;
       }
       if (force) add_internal_force(ps, p);
     });
+  }
+
+  // v^{n+1} of node i before the constraints, from its v^n (zero on a massless node).
+  Vec advanced(int i, const Vec& v, double dt) const {
+    return mass_[i] > 0.0 ? Vec(v + (dt / mass_[i]) * force_.col(i)) : Vec::Zero();
+  }
+  // The momenta v become velocities p_i / m_i (zero on massless nodes) and, with `next`, next
+  // gets their advanced velocities, in the same pass.
+  void nodal_velocities(NodalVectors& v, NodalVectors* next, double dt, int np) const {
 #pragma omp parallel for schedule(static) if (threaded(np))
-    for (int i = 0; i < num_nodes_; ++i)
+    for (int i = 0; i < num_nodes_; ++i) {
       if (mass_[i] > 0.0) v.col(i) /= mass_[i];
+      if (next) next->col(i) = advanced(i, v.col(i), dt);
+    }
   }
 
   // What to_particles does at each particle, in this order: the velocity update (FLIP adds the
@@ -262,32 +342,40 @@ class Mpm {
     const NodalVectors* stress_from = nullptr;
     const NodalVectors* move_with = nullptr;
   };
-  // One pass over the particles. Throws ParticleOutsideGrid for the first particle moved out.
-  void to_particles(ParticleSet& ps, double dt, const ToParticles& what) const {
+  // One pass over the particles; returns whether the states it leaves are finite (0 x summed
+  // without a branch: 0 for finite x, NaN otherwise). Throws ParticleOutsideGrid for the first
+  // particle moved out.
+  bool to_particles(ParticleSet& ps, double dt, const ToParticles& what) const {
     const bool flip = update_ == MpmVelocityUpdate::flip;
     const int np = ps.size();
     int outside = np;  // the first particle outside the grid
-#pragma omp parallel for schedule(static) reduction(min : outside) if (threaded(np))
+    double nonfinite = 0;
+#pragma omp parallel for schedule(static) reduction(min : outside) reduction(+ : nonfinite) \
+    if (threaded(np))
     for (int p = 0; p < np; ++p) {
+      const auto s = shape(p);
       if (what.velocity) {
         Vec v = Vec::Zero();
         for (int a = 0; a < npc; ++a) {
           const int i = node_(a, p);
-          v +=
-              shape_(a, p) * (flip ? Vec(vel_new_.col(i) - vel_old_.col(i)) : Vec(vel_new_.col(i)));
+          v += s[a] * (flip ? Vec(vel_new_.col(i) - vel_old_.col(i)) : Vec(vel_new_.col(i)));
         }
         set_particle_velocity(ps, p, flip ? Vec(particle_velocity(ps, p) + v) : v);
       }
       if (what.stress_from) update_stress(ps, p, *what.stress_from, dt);
       if (what.move_with) {
         Vec vp = Vec::Zero();
-        for (int a = 0; a < npc; ++a) vp += shape_(a, p) * what.move_with->col(node_(a, p));
+        for (int a = 0; a < npc; ++a) vp += s[a] * what.move_with->col(node_(a, p));
         ps.position.col(p) += dt * vp;
         Vec xi;
         if (grid_.locate(ps.position.col(p), xi) < 0) outside = std::min(outside, p);
       }
+      // One component at a time: a packet load across the scalar stores just made to the state
+      // waits for them (no store forwarding: the pass took 1.3x as long).
+      for (int k = 0; k < ncomp; ++k) nonfinite += 0.0 * ps.state(k, p);
     }
     if (outside < np) throw_outside_grid(ps, outside);
+    return nonfinite == 0.0;
   }
 
   // Calls f(node, x, s) for the nodes of the grid face normal to `axis` on `side`, x being the
@@ -397,9 +485,12 @@ class Mpm {
   int num_nodes_ = 0;
 
   Eigen::Matrix<int, npc, Eigen::Dynamic> node_;
-  Eigen::VectorXi block_;  // the scatter block of the particle's cell
-  Eigen::Matrix<double, npc, Eigen::Dynamic> shape_;
-  Eigen::Matrix<double, npc * Dim, Eigen::Dynamic> grad_;  // row a * Dim + l: dS_a / dx_l
+  Eigen::VectorXi block_;     // the scatter block of the particle's cell
+  Eigen::VectorXi by_block_;  // the particles, block by block (from block_begin_[b])
+  std::vector<int> block_begin_, block_place_;  // block_place_: locate's counts per thread
+  bool located_ = false;  // node_, xi_ and by_block_ are those of the particles
+  Eigen::Matrix<double, Dim, Eigen::Dynamic> xi_;  // in the cell, in [0, 1]^Dim
+  Vec inverse_h_;
   Eigen::VectorXd mass_;
   NodalVectors vel_old_, vel_new_, vel_musl_, force_;
 };

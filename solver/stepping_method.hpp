@@ -214,8 +214,7 @@ class MpmMethod final : public SteppingMethod<Physics> {
   }
   void distributed() override {}
   bool step(long, double t, double dt) override {
-    mpm_.step(run_.problem.particles, t, dt, run_.scene.particles_move);
-    return false;
+    return mpm_.step(run_.problem.particles, t, dt, run_.scene.particles_move);
   }
   void after_step(long step, double t, double) override {
     if constexpr (physics::StateDependentSpeed<Physics>) {  // C h / c at the particles' new speeds

@@ -286,6 +286,7 @@ template <class Physics>
 void MpmMethod<Physics>::restore(const nlohmann::json& h) {
   dt_ = method_detail::from_key(h, "dt");
   mpm_.set_load_work(method_detail::from_key(h, "mpm_load_work"));
+  mpm_.relocate();  // the particles are the checkpoint's
 }
 
 }  // namespace dgmpm

@@ -5,7 +5,7 @@
 // stencils reach, and a window (a block and its ghost layers) locates points as the full grid does.
 // A rank's subdomain: its window's cells map back to the grid's, its exchange partners are the
 // owners of its ghost cells (and list it in turn), its boundaries are the grid's on the grid's
-// sides only.
+// sides only. A point with a nonfinite coordinate is off the grid, periodic axes included.
 #define BOOST_TEST_MODULE lib_decomposition
 #include <boost/test/unit_test.hpp>
 
@@ -15,6 +15,7 @@
 #include <dgmpm/subdomain.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <optional>
 #include <random>
 #include <set>
@@ -223,6 +224,23 @@ BOOST_AUTO_TEST_CASE(two_dimensions) {
 BOOST_AUTO_TEST_CASE(three_dimensions) {
   check<3>(grid<3>({5, 4, 6}, {false, true, false}), {2, 2, 3});
   check<3>(grid<3>({5, 4, 6}, {true, true, true}), {1, 2, 2});
+}
+
+// A point with a nonfinite coordinate (a particle moved by a blown-up velocity) is off the grid,
+// along a periodic axis too.
+BOOST_AUTO_TEST_CASE(nonfinite_points_are_off_the_grid) {
+  for (bool periodic : {false, true}) {
+    const Grid<2> g = grid<2>({10, 7}, {periodic, periodic});
+    for (double bad :
+         {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity()})
+      for (int l = 0; l < 2; ++l) {
+        Grid<2>::Vec x(2.5, 3.5), xi;
+        BOOST_TEST_REQUIRE(g.locate(x, xi) == 32);
+        x[l] = bad;
+        BOOST_TEST(g.locate(x, xi) == -1, "periodic " << periodic << ", axis " << l << ": " << bad);
+      }
+  }
 }
 
 BOOST_AUTO_TEST_CASE(more_ranks_than_cells_is_refused) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -533,6 +534,54 @@ BOOST_AUTO_TEST_CASE(particle_leaving_the_grid_throws) {
   BOOST_TEST((ps.position == before.position));
 }
 
+// Particles that do not move are located once: one Mpm over many steps gives the states of a new
+// Mpm at every step (which locates them), bit for bit; after particles move other than by a step,
+// relocate() brings the kept one back to the new one, and without it the kept locations are used.
+BOOST_AUTO_TEST_CASE(fixed_particles_are_located_once_and_again_on_request) {
+  const Combo combo{MpmVariant::usl, MpmVelocityUpdate::flip};
+  Impact kept_run, fresh_run;
+  Mpm<ElasticBar> kept(kept_run.grid, Boundaries<1>{}, {steel}, combo.variant, combo.update);
+  const double dt = 0.5 * Impact::dx / kept_run.c;
+  const auto fresh_step = [&](Bar& ps, double t) {
+    Mpm<ElasticBar> fresh(fresh_run.grid, Boundaries<1>{}, {steel}, combo.variant, combo.update);
+    fresh.step(ps, t, dt, false);
+  };
+  for (int n = 0; n < 40; ++n) {
+    kept.step(kept_run.ps, n * dt, dt, false);
+    fresh_step(fresh_run.ps, n * dt);
+  }
+  BOOST_TEST(max_abs_stress(kept_run.ps, steel) > 0.5 * kept_run.sigma);  // the waves run
+  BOOST_TEST((kept_run.ps.state.array() == fresh_run.ps.state.array()).all());
+  // Every particle shifted by 0.3 dx, in its cell: new shape values.
+  kept_run.ps.position.array() += 0.3 * Impact::dx;
+  fresh_run.ps.position.array() += 0.3 * Impact::dx;
+  Bar stale = kept_run.ps;
+  Mpm<ElasticBar> unaware = kept;  // the locations of the unshifted particles
+  unaware.step(stale, 40 * dt, dt, false);
+  kept.relocate();
+  kept.step(kept_run.ps, 40 * dt, dt, false);
+  fresh_step(fresh_run.ps, 40 * dt);
+  BOOST_TEST((kept_run.ps.state.array() == fresh_run.ps.state.array()).all());
+  BOOST_TEST((stale.state.array() != kept_run.ps.state.array()).any());
+  // A particle put outside the grid is refused at the step after relocate().
+  kept_run.ps.position(0, 0) = -0.01;
+  kept.relocate();
+  BOOST_CHECK_THROW(kept.step(kept_run.ps, 41 * dt, dt, false), ParticleOutsideGrid);
+}
+
+// A step returns whether the particles' new states are finite (the run's check relies on it; a
+// moving particle of nonfinite velocity is off the grid, which throws).
+BOOST_AUTO_TEST_CASE(a_step_reports_non_finite_states) {
+  for (const auto& combo : all_combos) {
+    Impact impact;
+    Mpm<ElasticBar> mpm(impact.grid, Boundaries<1>{}, {steel}, combo.variant, combo.update);
+    const double dt = 0.5 * Impact::dx / impact.c;
+    BOOST_TEST(mpm.step(impact.ps, 0.0, dt, false), name(combo));
+    impact.ps.state(ElasticBar::stress, 70) = std::numeric_limits<double>::quiet_NaN();
+    BOOST_TEST(!mpm.step(impact.ps, dt, dt, false), name(combo));
+  }
+}
+
 BOOST_AUTO_TEST_CASE(steps_do_not_allocate) {
 #ifdef DGMPM_TEST_COUNT_MALLOC
   {
@@ -541,16 +590,17 @@ BOOST_AUTO_TEST_CASE(steps_do_not_allocate) {
     std::vector<int> probe2(1000);
     BOOST_TEST(mallocs.load() - before >= 2);  // the counter does see Eigen and operator new
   }
-  for (const auto& combo : all_combos) {
-    Impact impact;
-    Mpm<ElasticBar> mpm(impact.grid, Boundaries<1>{}, {steel}, combo.variant, combo.update);
-    const double dt = 0.5 * Impact::dx / impact.c;
-    mpm.step(impact.ps, 0.0, dt, true);
-    const long before = mallocs.load();
-    for (int n = 1; n < 50; ++n) mpm.step(impact.ps, n * dt, dt, true);
-    const long count = mallocs.load() - before;
-    BOOST_TEST(count == 0, name(combo) << ": " << count << " allocations");
-  }
+  for (const auto& combo : all_combos)
+    for (bool move : {true, false}) {
+      Impact impact;
+      Mpm<ElasticBar> mpm(impact.grid, Boundaries<1>{}, {steel}, combo.variant, combo.update);
+      const double dt = 0.5 * Impact::dx / impact.c;
+      mpm.step(impact.ps, 0.0, dt, move);
+      const long before = mallocs.load();
+      for (int n = 1; n < 50; ++n) mpm.step(impact.ps, n * dt, dt, move);
+      const long count = mallocs.load() - before;
+      BOOST_TEST(count == 0, name(combo) << (move ? " moving: " : ": ") << count << " allocations");
+    }
 #else
   BOOST_TEST_MESSAGE("allocation count not available in this build");
 #endif

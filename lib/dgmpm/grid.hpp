@@ -88,6 +88,7 @@ struct Grid {
       const double face = std::round(s);
       if (std::abs(s - face) <= face_snap * std::max(1.0, std::abs(face))) s = face;
       if (wrap) {
+        if (!std::isfinite(s)) return -1;  // as off a non-periodic axis (no int of a NaN)
         s -= std::floor(s / n) * n;
         if (s >= n) s = 0.0;  // round-off of the wrap
       } else if (!(s >= 0.0 && s <= n)) {
