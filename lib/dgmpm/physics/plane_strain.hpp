@@ -50,6 +50,12 @@ struct PlaneStrain {
   static constexpr int tangential_stress(int axis) { return axis == 0 ? syy : sxx; }
   static constexpr int normal_velocity(int axis) { return vx + axis; }
   static constexpr int tangential_velocity(int axis) { return vx + 1 - axis; }
+  // The state of components (sigma_nn, sigma_tt, sigma_nt, v_n, v_t) along `axis`, written
+  // whole: one assembled by single stores at computed indices and then read as packets (the
+  // step's sums) waits for those stores, store forwarding failing (perf: 15% of the 2D step).
+  static State along(int axis, double nn, double tt, double nt, double vn, double vt) {
+    return axis == 0 ? State(nn, tt, nt, vn, vt) : State(tt, nn, nt, vt, vn);
+  }
 
   // Immutable once built: wave speeds, impedances and 1 / rho are computed once, not at every
   // edge or node (a division in the volume term costs more than the rest of it).
@@ -147,25 +153,15 @@ struct PlaneStrain {
   static State specific_flux(int axis, const State& q, const Material& m) {
     const double vn = q[normal_velocity(axis)], vt = q[tangential_velocity(axis)];
     const double inv = m.inverse_density();
-    State f;
-    f[normal_stress(axis)] = -m.p_modulus() * inv * vn;
-    f[tangential_stress(axis)] = -m.lambda() * inv * vn;
-    f[sxy] = -m.mu() * inv * vt;
-    f[normal_velocity(axis)] = -q[normal_stress(axis)];
-    f[tangential_velocity(axis)] = -q[sxy];
-    return f;
+    return along(axis, -m.p_modulus() * inv * vn, -m.lambda() * inv * vn, -m.mu() * inv * vt,
+                 -q[normal_stress(axis)], -q[sxy]);
   }
 
   // F_n of a physical state s with m's moduli: stress rows -C : sym(v (x) n), momentum rows -t.
   static State flux(int axis, const State& s, const Material& m) {
     const double vn = s[normal_velocity(axis)], vt = s[tangential_velocity(axis)];
-    State f;
-    f[normal_stress(axis)] = -m.p_modulus() * vn;
-    f[tangential_stress(axis)] = -m.lambda() * vn;
-    f[sxy] = -m.mu() * vt;
-    f[normal_velocity(axis)] = -s[normal_stress(axis)];
-    f[tangential_velocity(axis)] = -s[sxy];
-    return f;
+    return along(axis, -m.p_modulus() * vn, -m.lambda() * vn, -m.mu() * vt, -s[normal_stress(axis)],
+                 -s[sxy]);
   }
 
   // One 1D Riemann problem per pair: (v_n, sigma_nn) at c_p, (v_t, sigma_nt) at c_s, each with
@@ -173,16 +169,16 @@ struct PlaneStrain {
   static State riemann(int axis, const State& qm, const Material& mm, const State& qp,
                        const Material& mp) {
     const int nn = normal_stress(axis), vn = normal_velocity(axis), vt = tangential_velocity(axis);
-    State s = State::Zero();
     // One material on both sides (the same table entry): its factors, not a division per face.
     const bool same = &mm == &mp;
     const double zpm = mm.p_impedance(), zpp = mp.p_impedance();
     const double zsm = mm.s_impedance(), zsp = mp.s_impedance();
+    double s_nn, v_n, s_nt, v_t;
     pair_star(zpm, qm[nn] * mm.density, qm[vn], zpp, qp[nn] * mp.density, qp[vn],
-              same ? mm.inverse_double_p_impedance() : 1.0 / (zpm + zpp), s[nn], s[vn]);
+              same ? mm.inverse_double_p_impedance() : 1.0 / (zpm + zpp), s_nn, v_n);
     pair_star(zsm, qm[sxy] * mm.density, qm[vt], zsp, qp[sxy] * mp.density, qp[vt],
-              same ? mm.inverse_double_s_impedance() : 1.0 / (zsm + zsp), s[sxy], s[vt]);
-    return s;
+              same ? mm.inverse_double_s_impedance() : 1.0 / (zsm + zsp), s_nt, v_t);
+    return along(axis, s_nn, 0.0, s_nt, v_n, v_t);
   }
 
   // Ghost state (specific) outside an edge normal to `axis` whose inside state is q: the mirror

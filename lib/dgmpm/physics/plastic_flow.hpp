@@ -50,11 +50,13 @@ struct PlasticFlow {
   // g(y) = (dt / tau) y^n + (sigma_y / k) y - f_trial / k. Newton from the smaller of two points
   // where g >= 0 (y = f_trial / sigma_y, and the root of the power term alone) descends
   // monotonically onto the root, in a few iterations even at dt / tau = 1e20; it stops when a
-  // step no longer lowers y (round-off).
+  // step no longer lowers y (round-off). For n = 1 (the usual choice) g is linear and its root
+  // closed, dp = f_trial / (k + sigma_y tau / dt) (no pow in the hot loop; finite for any tau/dt).
   double increment(double f_trial, double k, double dt) const {
     if (!(f_trial > 0)) return 0.0;
     if (!(relaxation_time > 0)) return f_trial / k;
     const double ratio = dt / relaxation_time, n = rate_exponent, sy = yield_stress;
+    if (n == 1) return f_trial / (k + sy / ratio);
     const auto g = [&](double y) { return ratio * std::pow(y, n) + (sy / k) * y - f_trial / k; };
     double y = std::min(f_trial / sy, std::pow(f_trial / (k * ratio), 1.0 / n));
     for (int iteration = 0; iteration < 200; ++iteration) {
