@@ -659,7 +659,10 @@ class DGOperator {
     const auto& mat = disc_.cell_material(c);
     const auto q = qn.template middleCols<npc>(c * npc);
     add_volume_term(c, q, mass, rc);
-    for (int l = 0; l < dim; ++l) {
+    // Axis by axis with the axis a constant: the physics' component indices are then known and
+    // its states can stay in registers.
+    for_each_axis([&](auto axis) __attribute__((always_inline)) {
+      constexpr int l = decltype(axis)::value;
       const double w = face_weight_[l];
       const int below = c - faces_.stride(l), above = c + faces_.stride(l);
       State& slot = sweep.stars[l][sweep.slot[l]];  // below's upper face, solved just before
@@ -671,9 +674,17 @@ class DGOperator {
           Physics::riemann(l, edge_average(q, l, 1), mat, edge_state(qn, above, l, 0), mat);
       copy_state(upper, slot);
       add_face_flux(l, 1, w, Physics::flux(l, upper, mat), rc);
-    }
+    });
     out = q;
     for (int a = 0; a < npc; ++a) out.col(a) += (dt * disc_.inverse_mass(c * npc + a)) * rc.col(a);
+  }
+
+  template <class F>
+  [[gnu::always_inline]] static inline void for_each_axis(F&& f) {
+    [&]<int... l>(std::integer_sequence<int, l...>) __attribute__((always_inline)) {
+      (f(std::integral_constant<int, l>{}), ...);
+    }
+    (std::make_integer_sequence<int, dim>{});
   }
 
   double edge_length(int l) const {
