@@ -52,6 +52,7 @@ assert names == ["1D DGMPM Euler", "1D DGMPM RK2", "1D moving, auto dt, 2 ppc",
                  "2D plastic CTU Euler, 1 ppc", "2D plastic CTU Euler, 4 ppc",
                  "2D every particle returns, DCU Euler, 1 ppc",
                  "2D every particle returns, CTU Euler, 1 ppc",
+                 "2D every particle returns, n = 4.37, DCU Euler, 1 ppc",
                  "2D finite strain neo-Hookean DCU Euler, 1 ppc",
                  "2D finite strain SVK DCU Euler, 1 ppc"], names
 for c in report["cases"]:

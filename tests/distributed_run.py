@@ -20,6 +20,9 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 failures = []
+# Every run's folder is made in this one, removed at the end if every check passed (kept, and
+# named, otherwise).
+WORK = tempfile.mkdtemp(prefix="dgmpm_mpi_")
 
 
 def check(ok, what):
@@ -54,7 +57,7 @@ def read(path, parallel):
 
 def compare(mpiexec, np, binary, scene):
     name = os.path.basename(scene)
-    top = tempfile.mkdtemp(prefix="dgmpm_mpi_")
+    top = tempfile.mkdtemp(prefix="compare_", dir=WORK)
     serial_dir, split_dir = os.path.join(top, "serial"), os.path.join(top, "split")
     serial = run([binary, "run", scene], serial_dir)
     split = run([mpiexec, "-np", str(np), "--oversubscribe", binary, "run", scene], split_dir)
@@ -103,7 +106,7 @@ def compare(mpiexec, np, binary, scene):
 def restart(mpiexec, np, binary, scene, every):
     """An uninterrupted distributed run with checkpoints, then a restart from its middle one."""
     name = os.path.basename(scene)
-    top = tempfile.mkdtemp(prefix="dgmpm_mpi_ckpt_")
+    top = tempfile.mkdtemp(prefix="restart_", dir=WORK)
     serial_dir, whole, resumed = (os.path.join(top, d) for d in ("serial", "whole", "resumed"))
     run([binary, "run", scene], serial_dir)
     mpi = [mpiexec, "-np", str(np), "--oversubscribe", binary, "run", scene]
@@ -135,7 +138,7 @@ def restart(mpiexec, np, binary, scene, every):
 def blow_up(mpiexec, np, binary, scene):
     """A run that blows up stops every rank with the serial run's message (step, time, particle,
     cell), said once, and exit code 1."""
-    top = tempfile.mkdtemp(prefix="dgmpm_mpi_blow_")
+    top = tempfile.mkdtemp(prefix="blow_up_", dir=WORK)
     with open(scene) as f:
         doc = json.load(f)
     doc["time"]["courant"] = 3.0
@@ -159,7 +162,7 @@ def interrupted(mpiexec, np, binary, scene):
     checkpoints on, a checkpoint (every rank's piece) where it stopped."""
     import signal
     import time
-    top = tempfile.mkdtemp(prefix="dgmpm_mpi_term_")
+    top = tempfile.mkdtemp(prefix="interrupted_", dir=WORK)
     with open(scene) as f:
         doc = json.load(f)
     doc["time"]["end"] = 10.0
@@ -205,8 +208,9 @@ def main():
     if moving:
         restart(mpiexec, np, binary, moving[0], 200)
     if failures:
-        print(f"{len(failures)} failures")
+        print(f"{len(failures)} failures; the runs are in {WORK}")
         sys.exit(1)
+    shutil.rmtree(WORK)
     print("ok")
 
 

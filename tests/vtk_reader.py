@@ -17,6 +17,7 @@ import csv
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -27,6 +28,9 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 failures = []
+# Every run's folder is made in this one, removed at the end if every check passed (kept, and
+# named, otherwise).
+WORK = tempfile.mkdtemp(prefix="dgmpm_vtk_")
 NAMES = ["sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz", "von_mises", "velocity",
          "stress_tensor", "strain_tensor", "mass", "volume", "size", "id", "material"]
 UNITS = {"sigma_xx": "Pa", "sigma_yy": "Pa", "sigma_xy": "Pa", "sigma_zz": "Pa",
@@ -43,7 +47,7 @@ def check(ok, what):
 
 def run(binary, scene, encoding, move=False):
     """Runs the scene with the given VTU encoding; returns the output folder."""
-    out = tempfile.mkdtemp(prefix=f"dgmpm_vtk_{encoding}_")
+    out = tempfile.mkdtemp(prefix=f"{encoding}_", dir=WORK)
     with open(scene) as f:
         doc = json.load(f)
     doc.setdefault("output", {})["vtu_encoding"] = encoding
@@ -194,7 +198,10 @@ def main():
     check(r.returncode != 0 and "no such column" in r.stderr and "sigma_xx" in r.stderr
           and "Traceback" not in r.stderr, f"plot_run.py on an absent field: {r.stderr}")
     print(f"{0 if failures else 1} passed, {len(failures)} failed")
-    sys.exit(1 if failures else 0)
+    if failures:
+        print(f"the runs are in {WORK}")
+        sys.exit(1)
+    shutil.rmtree(WORK)
 
 
 if __name__ == "__main__":

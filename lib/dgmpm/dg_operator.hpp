@@ -536,11 +536,12 @@ class DGOperator {
   // cell, or their only cell on a grid side), where a side is occupied.
   [[gnu::always_inline]] inline void own_faces(int c, const NodalField& qn, double t,
                                                double dt) const {
-    for (int l = 0; l < dim; ++l) {
+    for_each_axis([&](auto axis) __attribute__((always_inline)) {
+      constexpr int l = decltype(axis)::value;
       store_face(l, faces_.of_cell(l, c, 0), qn, t, dt);
       const int upper = faces_.of_cell(l, c, 1);
       if (faces_.cells(l, upper).second < 0) store_face(l, upper, qn, t, dt);
-    }
+    });
   }
   [[gnu::always_inline]] inline void store_face(int l, int f, const NodalField& qn, double t,
                                                 double dt) const {
@@ -563,6 +564,8 @@ class DGOperator {
     const auto& mat = disc_.cell_material(c);
     const auto q = qn.template middleCols<npc>(c * npc);
     add_volume_term(c, q, mass, rc);
+    // A loop, not for_each_axis: in 1D that made the compiler schedule the whole sweep worse (1D
+    // Euler 1.07x the time) for 2D gains of 2-5% of the instructions.
     for (int l = 0; l < dim; ++l) {
       const double w = face_weight_[l];
       for (int up = 0; up < 2; ++up) {
@@ -679,6 +682,7 @@ class DGOperator {
     for (int a = 0; a < npc; ++a) out.col(a) += (dt * disc_.inverse_mass(c * npc + a)) * rc.col(a);
   }
 
+  // f(std::integral_constant<int, l>) for each axis l in order.
   template <class F>
   [[gnu::always_inline]] static inline void for_each_axis(F&& f) {
     [&]<int... l>(std::integer_sequence<int, l...>) __attribute__((always_inline)) {

@@ -147,7 +147,6 @@ class Discretisation {
     node_mass_.resize(grid.num_nodes());
     inv_mass_.resize(grid.num_nodes());
     source_corner_.resize(grid.num_nodes());
-    near_empty_.resize(nc);
     cell_size_ = grid.cell_size;
     inverse_cell_size_ = grid.cell_size.cwiseInverse();
     cell_material_.resize(nc);
@@ -164,7 +163,6 @@ class Discretisation {
       node_mass_.segment<npc>(c * npc).setZero();
       inv_mass_.segment<npc>(c * npc).setZero();
       for (int a = 0; a < npc; ++a) source_corner_[c * npc + a] = -1;
-      near_empty_[c] = 0;
       double cell_mass = 0.0;
       int pure = -1;  // the material every particle so far carries; kMixed once several
       for (int e = cell_begin_[c]; e < cell_begin_[c + 1]; ++e) {
@@ -178,16 +176,16 @@ class Discretisation {
       }
       occupied_[c] = cell_mass <= 0.0                             ? 0
                      : occupied_[c] == kShared && layout_sharing_ ? kShared
-                                                                  : 1;
+                                                                  : kOccupied;
       if (!occupied_[c]) continue;
       massless = set_node_sources(c, cell_mass) || massless;
       for (int a = 0; a < npc; ++a) {
         const double m = node_mass_[c * npc + a];
         if (formulation_ == Formulation::consistent && m > massless_share * cell_mass &&
             m < stage_share * cell_mass)
-          near_empty_[c] = 1;
+          occupied_[c] |= kNearEmpty;
       }
-      near_empty = near_empty || near_empty_[c];
+      near_empty = near_empty || (occupied_[c] & kNearEmpty);
       cell_material_[c] = pure;
       if (pure != kMixed) finish_cell(c, first_overfull);
     }
@@ -247,7 +245,7 @@ class Discretisation {
     return local_.col(p);
   }
   bool occupied(int c) const {
-    return occupied_[c];
+    return occupied_[c] != 0;
   }
   // Whether occupied cell c has the shared layout (see above).
   bool shares_layout(int c) const {
@@ -256,7 +254,7 @@ class Discretisation {
   // Whether cell c is interior (see above): it shares the layout, has no massless node, and so do
   // its face neighbours c +- stride_l, which are its neighbours across the grid.
   bool interior(int c) const {
-    return occupied_[c] == kInterior;
+    return occupied_[c] >= kInterior;
   }
   // Shape values of the shared layout's particle j (entry order within a cell that shares it).
   const typename Shape::Values& shared_shape(int j) const {
@@ -401,7 +399,7 @@ class Discretisation {
     return has_near_empty_;
   }
   bool near_empty(int c) const {
-    return near_empty_[c];
+    return occupied_[c] & kNearEmpty;
   }
   int num_particles() const {
     return static_cast<int>(entries_.size());
@@ -571,11 +569,12 @@ class Discretisation {
     shared_cells_ = 0;
     if (!layout_sharing_ || shared_.count == 0) return;
     const int reference = shared_.reference, n = shared_.count;
-    if (occupied_[reference] != kShared) {  // no mass: nothing to share
-      for (int c = 0; c < nc; ++c) occupied_[c] = occupied_[c] != 0;
+    if (kind(occupied_[reference]) != kShared) {  // no mass: nothing to share
+      for (int c = 0; c < nc; ++c)
+        if (occupied_[c]) set_kind(c, kOccupied);
       return;
     }
-    for (int c = 0; c < nc; ++c) shared_cells_ += occupied_[c] == kShared;
+    for (int c = 0; c < nc; ++c) shared_cells_ += kind(occupied_[c]) == kShared;
     shared_.shape.resize(n);
     shared_.gradient.resize(n);
     for (int j = 0; j < n; ++j) {
@@ -583,7 +582,7 @@ class Discretisation {
       shared_.gradient[j] = Shape::gradients(shared_.local.col(j), inverse_cell_size_);
     }
     // Computed while the reference is not yet marked shared: the code any other cell runs.
-    occupied_[reference] = 1;
+    set_kind(reference, kOccupied);
     shared_.stiffness = stiffness(reference, mass);
     // add_stiffness_products' consistency part, from the reference's row sums.
     std::array<typename Shape::Values, dim> row_sums;
@@ -598,7 +597,7 @@ class Discretisation {
     for (int l = 0; l < dim; ++l)
       shared_.defective[l] = formulation_ == Formulation::consistent && cell > 0.0 &&
                              consistency_defect(reference, l, row_sums[l], shared_.defect[l]);
-    occupied_[reference] = kShared;
+    set_kind(reference, kShared);
   }
 
   // Marks the interior cells: shared, with shared face neighbours at c +- stride_l. A layout with a
@@ -625,11 +624,15 @@ class Discretisation {
             inner_row && rest % grid.cells[l] > 0 && rest % grid.cells[l] + 1 < grid.cells[l];
       if (!inner_row) continue;
       for (int c = r * row + 1; c < (r + 1) * row - 1; ++c) {
-        if (occupied_[c] != kShared) continue;
+        const char state = occupied_[c];  // only this thread writes it
+        if (kind(state) != kShared) continue;
         bool inside = true;
         for (int l = 0; l < dim && inside; ++l)
           inside = shared(c - stride[l]) && shared(c + stride[l]);
-        if (inside) std::atomic_ref<char>(occupied_[c]).store(kInterior, std::memory_order_relaxed);
+        if (inside)
+          std::atomic_ref<char>(occupied_[c])
+              .store(static_cast<char>((state & kNearEmpty) | kInterior),
+                     std::memory_order_relaxed);
       }
     }
   }
@@ -662,9 +665,20 @@ class Discretisation {
   // Relative row-sum defect below which a cell counts as consistent (round-off of the sums).
   static constexpr double kConsistentTolerance = 1e-12;
 
-  static constexpr int kMixed = -2;     // cell_material_ of a mixed cell before its blend
-  static constexpr char kShared = 2;    // occupied_ of a cell with the shared layout
-  static constexpr char kInterior = 3;  // ... and interior
+  static constexpr int kMixed = -2;  // cell_material_ of a mixed cell before its blend
+  // occupied_: a cell's kind (0 empty, kOccupied, kShared, kInterior, each including the ones
+  // before it) plus the flag kNearEmpty, which only RK2 reads: one byte per cell for both, and
+  // the sweep's tests of kind stay one comparison.
+  static constexpr char kNearEmpty = 1;  // some node holds a (massless, stage) share of the mass
+  static constexpr char kOccupied = 2;
+  static constexpr char kShared = 4;    // ... with the shared layout
+  static constexpr char kInterior = 6;  // ... and interior
+  static char kind(char state) {
+    return state & ~kNearEmpty;
+  }
+  void set_kind(int c, char k) {
+    occupied_[c] = static_cast<char>((occupied_[c] & kNearEmpty) | k);
+  }
 
   // The shared layout: its particles (entry order) and what the cells that share it read.
   struct SharedLayout {
@@ -694,8 +708,7 @@ class Discretisation {
   typename Grid<dim>::Vec inverse_cell_size_ = Grid<dim>::Vec::Ones();
   std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
   std::vector<int> cell_material_;  // index into table_
-  std::vector<char> occupied_;
-  std::vector<char> near_empty_;  // per cell: some node holds (massless, stage) share
+  std::vector<char> occupied_;      // per cell: its kind and flag (kShared above)
   bool has_massless_ = false, has_near_empty_ = false;
   Formulation formulation_ = Formulation::consistent;
   double cell_volume_ = 0.0;
