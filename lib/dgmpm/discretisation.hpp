@@ -708,7 +708,7 @@ class Discretisation {
   typename Grid<dim>::Vec inverse_cell_size_ = Grid<dim>::Vec::Ones();
   std::vector<Material> table_;     // the scene's materials, then the blends of mixed cells
   std::vector<int> cell_material_;  // index into table_
-  std::vector<char> occupied_;      // per cell: its kind and flag (kShared above)
+  std::vector<char> occupied_;      // per cell: its kind and flag (kOccupied above)
   bool has_massless_ = false, has_near_empty_ = false;
   Formulation formulation_ = Formulation::consistent;
   double cell_volume_ = 0.0;
