@@ -85,16 +85,20 @@ struct Grid {
       const int n = window ? full.cells[l] : cells[l];
       const bool wrap = window ? full.periodic[l] : periodic[l];
       double s = (x[l] - origin[l]) / cell_size[l];
-      const double face = std::round(s);
+      // rint, not round: inlined rather than a call (a fifth of a moving 1D step's locate). They
+      // differ only at a tie, half a cell from a face, which no snap reaches below 5e11 cells.
+      const double face = std::rint(s);
       if (std::abs(s - face) <= face_snap * std::max(1.0, std::abs(face))) s = face;
-      if (wrap) {
-        if (!std::isfinite(s)) return -1;  // as off a non-periodic axis (no int of a NaN)
-        s -= std::floor(s / n) * n;
-        if (s >= n) s = 0.0;  // round-off of the wrap
-      } else if (!(s >= 0.0 && s <= n)) {
-        return -1;  // also catches NaN
+      if (!(s > 0.0 && s < n)) {  // inside, s is already its own wrap (s / n floors to 0)
+        if (wrap) {
+          if (!std::isfinite(s)) return -1;  // as off a non-periodic axis (no int of a NaN)
+          s -= std::floor(s / n) * n;
+          if (s >= n) s = 0.0;  // round-off of the wrap
+        } else if (!(s >= 0.0 && s <= n)) {
+          return -1;  // also catches NaN
+        }
       }
-      int kl = static_cast<int>(std::floor(s));
+      int kl = static_cast<int>(s);  // s >= 0 (or -0): truncation is floor
       if (kl == n) kl = n - 1;
       xi[l] = s - kl;
       if (window) {
