@@ -98,7 +98,9 @@ struct Grid {
           return -1;  // also catches NaN
         }
       }
-      int kl = static_cast<int>(s);  // s >= 0 (or -0): truncation is floor
+      // s >= 0 here (or -0), so truncation is floor. The wrap is not negative: s / n rounds up to
+      // an integer m only within an ulp of it, where the snap has made s exactly m n.
+      int kl = static_cast<int>(s);
       if (kl == n) kl = n - 1;
       xi[l] = s - kl;
       if (window) {
