@@ -8,6 +8,7 @@
 
 #include <dgmpm/grid.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -52,8 +53,8 @@ BOOST_AUTO_TEST_CASE(a_point_on_a_face_belongs_to_the_plus_cell_at_xi_zero) {
     const Grid<2> g = plate(periodic);
     for (int face = 0; face <= 13; ++face)
       for (const double off : {0.0, 3e-16, -3e-16, 4e-13, -4e-13}) {
-        // Off the face by round-off (a relative 4e-13 of the cells counted is under the snap).
-        const Grid<2>::Vec x(position(g, 0, face * (1 + off)), position(g, 1, 2.5));
+        // Off the face by round-off (4e-13 of the cells counted, or of one, is under the snap).
+        const Grid<2>::Vec x(position(g, 0, face + off * std::max(1, face)), position(g, 1, 2.5));
         Grid<2>::Vec xi = Grid<2>::Vec::Zero();
         const int c = g.locate(x, xi);
         if (face < 13) {
