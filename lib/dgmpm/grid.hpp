@@ -85,7 +85,7 @@ struct Grid {
       const int n = window ? full.cells[l] : cells[l];
       const bool wrap = window ? full.periodic[l] : periodic[l];
       double s = (x[l] - origin[l]) / cell_size[l];
-      // rint, not round: inlined rather than a call (a fifth of a moving 1D step's locate). They
+      // rint, not round: inlined rather than a call (a fifth of locate's instructions). They
       // differ only at a tie, half a cell from a face, which no snap reaches below 5e11 cells.
       const double face = std::rint(s);
       if (std::abs(s - face) <= face_snap * std::max(1.0, std::abs(face))) s = face;
