@@ -5,6 +5,8 @@
 #define BOOST_TEST_MODULE solver_checkpoint
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "solver/checkpoint.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
@@ -26,7 +28,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path root = fs::temp_directory_path() / "dgmpm_checkpoint_test";
+// Its own folder, removed when every case passed (tests/common/scratch.hpp).
+const fs::path& root() {
+  return dgmpm::test::scratch();
+}
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -36,8 +41,8 @@ std::string read_file(const fs::path& p) {
 }
 
 std::string write_scene(const std::string& name, const json& doc) {
-  fs::create_directories(root);
-  const fs::path path = root / (name + ".json");
+  fs::create_directories(root());
+  const fs::path path = root() / (name + ".json");
   std::ofstream(path) << doc.dump(1);
   return path.string();
 }
@@ -136,7 +141,7 @@ std::vector<fs::path> checkpoints_in(const fs::path& dir) {
 void check_restarts(const std::string& name, const json& doc, RunOptions options,
                     std::size_t min_checkpoints = 2) {
   const scene::Scene scene = scene::load_scene(write_scene(name, doc));
-  const fs::path a = root / (name + "_whole"), b = root / (name + "_checkpointed");
+  const fs::path a = root() / (name + "_whole"), b = root() / (name + "_checkpointed");
   fs::remove_all(a);
   fs::remove_all(b);
   const std::string whole = numbers(run_into(scene, a));
@@ -147,14 +152,14 @@ void check_restarts(const std::string& name, const json& doc, RunOptions options
   BOOST_TEST_REQUIRE(found.size() >= min_checkpoints,
                      name << ": " << found.size() << " checkpoints");
   for (const auto& ckpt : found) {
-    const fs::path c = root / (name + "_restarted");
+    const fs::path c = root() / (name + "_restarted");
     fs::remove_all(c);
     fs::copy(b, c, fs::copy_options::recursive);
     const RunSummary s = run_into(scene, c, {}, (c / ckpt.filename()).string());
     const std::string what = name + " restarted from " + ckpt.filename().string();
     BOOST_TEST((numbers(s) == whole), what << ": summary\n" << numbers(s) << "\n" << whole);
-    BOOST_TEST(s.warnings.size() == run_into(scene, root / "scratch").warnings.size(), what);
-    fs::remove_all(root / "scratch");
+    BOOST_TEST(s.warnings.size() == run_into(scene, root() / "scratch").warnings.size(), what);
+    fs::remove_all(root() / "scratch");
     expect_same_outputs(a, c, what);
   }
 }
@@ -190,7 +195,7 @@ BOOST_AUTO_TEST_CASE(dgmpm_1d_checkpoints_in_simulated_time_keep_the_newest) {
   // With a limit, only the newest are kept, and the manifest lists exactly those.
   const scene::Scene scene =
       scene::load_scene(write_scene("bar_keep", bar_1d("dgmpm", false, "euler", 0.8)));
-  const fs::path d = root / "bar_keep";
+  const fs::path d = root() / "bar_keep";
   fs::remove_all(d);
   RunOptions o = every(3);
   o.checkpoint_keep = 2;
@@ -236,7 +241,7 @@ BOOST_AUTO_TEST_CASE(plastic_bar_dgmpm_and_mpm) {
     plastic["bodies"][0]["stress"] = {-1.2e8};  // above the yield stress: it flows from the start
     check_restarts(name, plastic, every(steps));
     const RunSummary s = run_into(scene::load_scene(write_scene(name, plastic)),
-                                  root / (std::string(name) + "_flow"));
+                                  root() / (std::string(name) + "_flow"));
     BOOST_TEST(s.energy_dissipated.value_or(0) > 0, name << ": the bar yields");
   }
   // Plane strain: the plate's steel yields under its load.
@@ -249,7 +254,7 @@ BOOST_AUTO_TEST_CASE(plastic_bar_dgmpm_and_mpm) {
     plastic["materials"]["steel"] = plate_steel;
     check_restarts(name, plastic, every(steps));
     const RunSummary s = run_into(scene::load_scene(write_scene(name, plastic)),
-                                  root / (std::string(name) + "_flow"));
+                                  root() / (std::string(name) + "_flow"));
     BOOST_TEST(s.energy_dissipated.value_or(0) > 0, name << ": the plate yields");
   }
 }
@@ -309,7 +314,7 @@ BOOST_AUTO_TEST_CASE(energy_history_cut_back_to_the_checkpoint) {
   // A run killed after its last checkpoint leaves rows (maybe half a row) beyond it: cut away.
   const json doc = bar_1d("dgmpm", false, "euler", 0.5);
   const scene::Scene scene = scene::load_scene(write_scene("bar_cut", doc));
-  const fs::path a = root / "bar_cut_whole", b = root / "bar_cut";
+  const fs::path a = root() / "bar_cut_whole", b = root() / "bar_cut";
   fs::remove_all(a);
   fs::remove_all(b);
   run_into(scene, a);
@@ -339,8 +344,8 @@ BOOST_AUTO_TEST_CASE(energy_history_cut_back_to_the_checkpoint) {
 BOOST_AUTO_TEST_CASE(restart_into_another_directory_is_said) {
   const scene::Scene scene =
       scene::load_scene(write_scene("bar_move_dir", bar_1d("dgmpm", false, "euler", 0.5)));
-  const fs::path a = root / "bar_move_dir_whole", b = root / "bar_move_dir",
-                 c = root / "bar_elsewhere";
+  const fs::path a = root() / "bar_move_dir_whole", b = root() / "bar_move_dir",
+                 c = root() / "bar_elsewhere";
   fs::remove_all(a);
   fs::remove_all(b);
   fs::remove_all(c);
@@ -358,7 +363,7 @@ BOOST_AUTO_TEST_CASE(restart_into_another_directory_is_said) {
 BOOST_AUTO_TEST_CASE(checkpoints_of_another_scene_version_or_damaged_are_refused) {
   json doc = bar_1d("dgmpm", false, "euler", 0.5);
   const scene::Scene scene = scene::load_scene(write_scene("bar_refuse", doc));
-  const fs::path b = root / "bar_refuse";
+  const fs::path b = root() / "bar_refuse";
   fs::remove_all(b);
   run_into(scene, b, every(10));
   const std::string ckpt = checkpoints_in(b).at(0).string();
@@ -366,7 +371,7 @@ BOOST_AUTO_TEST_CASE(checkpoints_of_another_scene_version_or_damaged_are_refused
   // The output directory may change, and the end time to a later one (the run is extended);
   // nothing else.
   json moved = doc;
-  moved["output"]["directory"] = (root / "elsewhere").string();
+  moved["output"]["directory"] = (root() / "elsewhere").string();
   BOOST_TEST(refusal(scene::load_scene(write_scene("bar_refuse_dir", moved)), ckpt) == "");
   json longer = doc;
   longer["time"]["end"] = 4e-4;
@@ -385,14 +390,14 @@ BOOST_AUTO_TEST_CASE(checkpoints_of_another_scene_version_or_damaged_are_refused
   // Another version: a checkpoint rewritten with another version string.
   checkpoint::File file = checkpoint::read(ckpt);
   file.header["version"] = "0.0.1";
-  const std::string old_version = (root / "old_version.ckpt").string();
+  const std::string old_version = (root() / "old_version.ckpt").string();
   checkpoint::write(old_version, file);
   const std::string v = refusal(scene, old_version);
   BOOST_TEST(v.find("written by dgmpm 0.0.1") != std::string::npos, v);
 
   // Damaged: one byte changed, cut short, not a checkpoint at all.
   std::string bytes = read_file(ckpt);
-  const fs::path damaged = root / "damaged.ckpt";
+  const fs::path damaged = root() / "damaged.ckpt";
   bytes[bytes.size() / 2] ^= 0x20;
   std::ofstream(damaged, std::ios::binary) << bytes;
   BOOST_TEST(refusal(scene, damaged.string()).find("corrupt") != std::string::npos);
@@ -405,14 +410,14 @@ BOOST_AUTO_TEST_CASE(checkpoints_of_another_scene_version_or_damaged_are_refused
 BOOST_AUTO_TEST_CASE(command_line) {
   const std::string binary = DGMPM_BINARY;
   json doc = bar_1d("dgmpm", false, "rk2", "auto");
-  const fs::path a = root / "cli_whole", b = root / "cli_checkpointed";
+  const fs::path a = root() / "cli_whole", b = root() / "cli_checkpointed";
   doc["output"]["directory"] = a.string();
   const std::string scene = write_scene("cli", doc);
   fs::remove_all(a);
   fs::remove_all(b);
   const auto sh = [](const std::string& cmd) {
     const int status =
-        std::system((cmd + " >/dev/null 2>" + (root / "stderr.txt").string()).c_str());
+        std::system((cmd + " >/dev/null 2>" + (root() / "stderr.txt").string()).c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   };
   BOOST_TEST(sh(binary + " run " + scene) == 0);
@@ -428,13 +433,13 @@ BOOST_AUTO_TEST_CASE(command_line) {
     BOOST_TEST(
         sh(binary + " run " + scene + " --out " + b.string() + " --checkpoint-every " + bad) == 2,
         bad);
-    const std::string err = read_file(root / "stderr.txt");
+    const std::string err = read_file(root() / "stderr.txt");
     BOOST_TEST(err.find("--checkpoint-every") != std::string::npos, err);
   }
   // No directory to write them into.
   json quiet = doc;
   quiet["output"].erase("directory");
   BOOST_TEST(sh(binary + " run " + write_scene("cli_quiet", quiet) + " --checkpoint-every 5") == 2);
-  BOOST_TEST(read_file(root / "stderr.txt").find("output directory") != std::string::npos);
+  BOOST_TEST(read_file(root() / "stderr.txt").find("output directory") != std::string::npos);
   BOOST_TEST(sh(binary + " run " + scene + " --restart " + scene) == 2);
 }

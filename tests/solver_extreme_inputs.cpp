@@ -4,6 +4,8 @@
 #define BOOST_TEST_MODULE solver_extreme_inputs
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "solver/problem.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
@@ -34,7 +36,7 @@ json bar(json layout = {{"particles_per_cell", 1}}) {
 }
 
 std::string refusal_of_text(const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / "dgmpm_extreme_input.json";
+  const auto path = dgmpm::test::scratch() / "extreme_input.json";
   std::ofstream(path, std::ios::binary) << text;
   try {
     scene::load_scene(path.string());

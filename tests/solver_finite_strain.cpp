@@ -11,6 +11,8 @@
 #define BOOST_TEST_MODULE solver_finite_strain
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "common/hyperelastic.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
@@ -221,8 +223,7 @@ BOOST_AUTO_TEST_CASE(rigid_translation_carries_the_displacement) {
     BOOST_TEST(r.v[i] == 25.0, boost::test_tools::tolerance(1e-12));
     BOOST_TEST(r.u[i] == 25.0 * r.time, boost::test_tools::tolerance(1e-12));
   }
-  const auto dir = std::filesystem::temp_directory_path() / "dgmpm_finite_strain_translation";
-  std::filesystem::remove_all(dir);
+  const auto dir = dgmpm::test::scratch() / "translation";
   doc["output"] = {{"directory", dir.string()}, {"times", {2e-4}}, {"formats", {"csv", "vtu"}}};
   doc["time"]["end"] = 2e-4;
   Simulation<NH> sim(scene::parse_scene(doc, "scene.json"));
@@ -248,7 +249,6 @@ BOOST_AUTO_TEST_CASE(rigid_translation_carries_the_displacement) {
   for (const char* array : {"\"F\"", "\"stress_tensor\"", "\"deformation_gradient\"",
                             "\"reference_position\"", "\"displacement\"", "\"nominal_stress\""})
     BOOST_TEST(text.find(std::string("Name=") + array) != std::string::npos, array);
-  std::filesystem::remove_all(dir);
 }
 
 // Pushed at 400 m/s into a bar prestrained to F = 0.7, SVK leaves its hyperbolic range

@@ -10,6 +10,8 @@
 #define BOOST_TEST_MODULE solver_finite_strain_plane
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "common/hyperelastic.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
@@ -363,8 +365,7 @@ BOOST_AUTO_TEST_CASE(rigid_motion_carries_the_displacement) {
     BOOST_TEST((q.v - Eigen::Vector2d(30, -40)).cwiseAbs().maxCoeff() < 1e-10);
     BOOST_TEST((q.u - r.time * Eigen::Vector2d(30, -40)).cwiseAbs().maxCoeff() < 1e-13);
   }
-  const auto dir = std::filesystem::temp_directory_path() / "dgmpm_finite_strain_plane_motion";
-  std::filesystem::remove_all(dir);
+  const auto dir = dgmpm::test::scratch() / "motion";
   doc["output"] = {{"directory", dir.string()}, {"times", {2e-4}}, {"formats", {"csv", "vtu"}}};
   doc["time"]["end"] = 2e-4;
   Simulation<NH> sim(scene::parse_scene(doc, "scene.json"));
@@ -394,7 +395,6 @@ BOOST_AUTO_TEST_CASE(rigid_motion_carries_the_displacement) {
        {"\"F_xy\"", "\"velocity\"", "\"stress_tensor\"", "\"deformation_gradient\"",
         "\"reference_position\"", "\"J\"", "\"nominal_stress_xx\"", "\"displacement_x\""})
     BOOST_TEST(text.find(std::string("Name=") + array) != std::string::npos, array);
-  std::filesystem::remove_all(dir);
 }
 
 // Kinetic + strain energy at most the initial energy plus the loads' work at every step: the

@@ -6,6 +6,8 @@
 #define BOOST_TEST_MODULE solver_new_material
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "step_counting_plane.hpp"
 
 #include "solver/problem_impl.hpp"
@@ -29,7 +31,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path root = fs::temp_directory_path() / "dgmpm_new_material_test";
+// Its own folder, removed when every case passed (tests/common/scratch.hpp).
+const fs::path& root() {
+  return dgmpm::test::scratch();
+}
 
 // The scene description: a plate of the test material, as plane strain's (model
 // "linear_elastic"), loaded on part of a side, with void cells around it.
@@ -96,9 +101,8 @@ BOOST_AUTO_TEST_CASE(states_are_plane_strain_s_and_the_counter_counts) {
 
 BOOST_AUTO_TEST_CASE(outputs_carry_the_column_and_restarts_carry_the_counter_on) {
   const scene::Scene s = plate("dgmpm", "rk2", "dcu");
-  const fs::path whole = root / "whole", checkpointed = root / "checkpointed",
-                 restarted = root / "restarted";
-  fs::remove_all(root);
+  const fs::path whole = root() / "whole", checkpointed = root() / "checkpointed",
+                 restarted = root() / "restarted";
   Simulation<StepCountingPlane> a(s);
   RunOptions options;
   options.output_directory = whole.string();
@@ -149,5 +153,4 @@ BOOST_AUTO_TEST_CASE(outputs_carry_the_column_and_restarts_carry_the_counter_on)
   for (const char* f :
        {"particles_000.csv", "particles_001.csv", "particles_001.vtu", "energy.csv"})
     BOOST_TEST((read_file(whole / f) == read_file(restarted / f)), f);
-  fs::remove_all(root);
 }

@@ -4,6 +4,8 @@
 #define BOOST_TEST_MODULE solver_output_ownership
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "solver/output.hpp"
 #include "solver/scene.hpp"
 #include "solver/simulation.hpp"
@@ -27,7 +29,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path root = fs::temp_directory_path() / "dgmpm_output_ownership";
+// Its own folder, removed when every case passed (tests/common/scratch.hpp).
+const fs::path& root() {
+  return dgmpm::test::scratch();
+}
 
 std::string write_scene(const std::string& name, std::vector<double> times) {
   json doc = {{"dimension", 1},
@@ -39,9 +44,9 @@ std::string write_scene(const std::string& name, std::vector<double> times) {
                  {"velocity", {1.0}},
                  {"particles_per_cell", 1}}}},
               {"time", {{"end", 1e-4}, {"courant", 1.0}}},
-              {"output", {{"directory", (root / "out").string()}, {"times", times}}}};
-  fs::create_directories(root);
-  const fs::path path = root / name;
+              {"output", {{"directory", (root() / "out").string()}, {"times", times}}}};
+  fs::create_directories(root());
+  const fs::path path = root() / name;
   std::ofstream(path) << doc.dump();
   return path.string();
 }
@@ -60,7 +65,7 @@ std::string run(const std::string& scene, bool overwrite = false) {
 
 std::set<std::string> files() {
   std::set<std::string> names;
-  for (const auto& e : fs::directory_iterator(root / "out"))
+  for (const auto& e : fs::directory_iterator(root() / "out"))
     names.insert(e.path().filename().string());
   return names;
 }
@@ -68,7 +73,6 @@ std::set<std::string> files() {
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(a_run_owns_its_directory) {
-  fs::remove_all(root);
   const std::string three = write_scene("a.json", {2e-5, 5e-5, 1e-4});
   BOOST_TEST(run(three).empty());
   BOOST_TEST(files().count("particles_002.csv") == 1u);
@@ -78,7 +82,7 @@ BOOST_AUTO_TEST_CASE(a_run_owns_its_directory) {
   BOOST_TEST(files().count("particles_002.csv") == 0u);
   BOOST_TEST(files().count("particles_000.csv") == 1u);
   // Files that are not the run's stay.
-  std::ofstream(root / "out" / "notes.txt") << "mine";
+  std::ofstream(root() / "out" / "notes.txt") << "mine";
   BOOST_TEST(run(three).empty());
   BOOST_TEST(files().count("notes.txt") == 1u);
   // Another scene is refused, unless it overwrites.
@@ -90,17 +94,17 @@ BOOST_AUTO_TEST_CASE(a_run_owns_its_directory) {
   const std::string back = run(three);
   BOOST_TEST(back.find("b.json") != std::string::npos, back);
   // dgmpm outputs without a manifest (an unknown run) are not ours to delete.
-  fs::remove(root / "out" / "manifest.json");
+  fs::remove(root() / "out" / "manifest.json");
   BOOST_TEST(run(three).find("of an unknown run") != std::string::npos);
   BOOST_TEST(run(three, true).empty());
 }
 
 BOOST_AUTO_TEST_CASE(a_directory_in_use_is_refused) {
-  fs::create_directories(root / "busy");
-  output::DirectoryClaim first((root / "busy").string(), "x.json", {"energy.csv"}, true);
+  fs::create_directories(root() / "busy");
+  output::DirectoryClaim first((root() / "busy").string(), "x.json", {"energy.csv"}, true);
   std::string what;
   try {
-    output::DirectoryClaim second((root / "busy").string(), "x.json", {"energy.csv"}, true);
+    output::DirectoryClaim second((root() / "busy").string(), "x.json", {"energy.csv"}, true);
   } catch (const std::runtime_error& e) {
     what = e.what();
   }
@@ -110,11 +114,11 @@ BOOST_AUTO_TEST_CASE(a_directory_in_use_is_refused) {
 // A run killed by SIGTERM (or SIGINT) while it writes leaves no temporary file behind, nor a
 // held lock: the same run then starts again.
 BOOST_AUTO_TEST_CASE(a_killed_run_leaves_no_temporary_file) {
-  fs::remove_all(root / "out");
+  fs::remove_all(root() / "out");
   json doc = json::parse(std::ifstream(write_scene("long.json", {1.0})));
   doc["time"]["end"] = 1000.0;  // about 5e7 steps: far longer than the second it is given
   doc["time"]["max_steps"] = 1e12;
-  const fs::path scene = root / "long.json";
+  const fs::path scene = root() / "long.json";
   std::ofstream(scene) << doc.dump();
   for (const char* signal : {"TERM", "INT"}) {
     const std::string command = std::string("timeout -s ") + signal + " 1 " + DGMPM_BINARY +
@@ -122,7 +126,7 @@ BOOST_AUTO_TEST_CASE(a_killed_run_leaves_no_temporary_file) {
     const int status = std::system(command.c_str());
     BOOST_TEST(WEXITSTATUS(status) == 124, signal);  // timeout's code: the run was killed
     int temporaries = 0;
-    for (const auto& e : fs::directory_iterator(root / "out"))
+    for (const auto& e : fs::directory_iterator(root() / "out"))
       temporaries += e.path().filename().string().find(".part-") != std::string::npos;
     BOOST_TEST(temporaries == 0, signal);
     BOOST_TEST(files().count("manifest.json") == 1u);
@@ -132,19 +136,19 @@ BOOST_AUTO_TEST_CASE(a_killed_run_leaves_no_temporary_file) {
 // summary.json is exactly the --json object (with the Courant numbers used); each particle CSV
 // says its time, and outputs.csv indexes the outputs (index, time, files).
 BOOST_AUTO_TEST_CASE(outputs_say_what_and_when) {
-  fs::remove_all(root / "out");
+  fs::remove_all(root() / "out");
   const std::string scene = write_scene("index.json", {2e-5, 1e-4});
-  const fs::path printed = root / "printed.json";
+  const fs::path printed = root() / "printed.json";
   const std::string command =
       std::string(DGMPM_BINARY) + " run " + scene + " --json > " + printed.string();
   BOOST_TEST_REQUIRE(std::system(command.c_str()) == 0);
   const json j = json::parse(std::ifstream(printed));
-  const json summary = json::parse(std::ifstream(root / "out" / "summary.json"));
+  const json summary = json::parse(std::ifstream(root() / "out" / "summary.json"));
   BOOST_TEST(j == summary);
   BOOST_TEST(j["courant_min"].get<double>() == 1.0, boost::test_tools::tolerance(1e-12));
   BOOST_TEST(j["courant_max"].get<double>() == 1.0, boost::test_tools::tolerance(1e-12));
   BOOST_TEST(j["particles"].get<int>() == 10);
-  std::ifstream index(root / "out" / "outputs.csv");
+  std::ifstream index(root() / "out" / "outputs.csv");
   std::string line;
   std::getline(index, line);
   BOOST_TEST(line == "index,time,csv,vtu");
@@ -156,7 +160,7 @@ BOOST_AUTO_TEST_CASE(outputs_say_what_and_when) {
     BOOST_TEST(t == (k ? 1e-4 : 2e-5), boost::test_tools::tolerance(1e-12));
     const std::string file = line.substr(c2 + 1, c3 - c2 - 1);
     // The file's time column carries the same time on every row.
-    std::ifstream particles(root / "out" / file);
+    std::ifstream particles(root() / "out" / file);
     std::string header, row;
     std::getline(particles, header);
     BOOST_TEST(header.substr(header.rfind(',') + 1) == "time");
@@ -176,7 +180,7 @@ BOOST_AUTO_TEST_CASE(outputs_without_landing_leave_the_steps_alone) {
   const double dt = 0.1 / std::sqrt(2e11 / 7800);
   const std::vector<double> asked = {2.5 * dt, 7.3 * dt};
   const auto run_with = [&](bool outputs, bool land) {
-    fs::remove_all(root / "out");
+    fs::remove_all(root() / "out");
     json doc = json::parse(std::ifstream(write_scene("land.json", asked)));
     doc["time"]["end"] = 20 * dt;
     doc["time"]["courant"] = 0.9;  // waves move by fractions of a cell: the answer depends on dt
@@ -193,7 +197,7 @@ BOOST_AUTO_TEST_CASE(outputs_without_landing_leave_the_steps_alone) {
   BOOST_TEST(nearest_steps == plain_steps);
   BOOST_TEST((nearest.array() == plain.array()).all());
   BOOST_TEST((landed - plain).cwiseAbs().maxCoeff() > 0.0);
-  std::ifstream index(root / "out" / "outputs.csv");
+  std::ifstream index(root() / "out" / "outputs.csv");
   std::string line;
   std::getline(index, line);
   for (double t : asked) {

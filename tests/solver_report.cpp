@@ -2,6 +2,8 @@
 #define BOOST_TEST_MODULE report
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "reports/report.hpp"
 
 #include <algorithm>
@@ -13,7 +15,6 @@
 #include <map>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 using namespace dgmpm::report;
@@ -25,19 +26,12 @@ struct QuickReport {
   fs::path dir;
   ReportResult result;
   std::string markdown;
-  QuickReport() {
-    std::string pattern = (fs::temp_directory_path() / "dgmpm_report_XXXXXX").string();
-    BOOST_REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-    dir = pattern;
+  QuickReport() : dir(dgmpm::test::scratch() / "report") {
     std::ostringstream log;
     result = write_report({true, dir.string(), true}, log);
     BOOST_TEST_MESSAGE(log.str());
     std::ifstream in(dir / "report.md");
     markdown.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  ~QuickReport() {
-    std::error_code ignored;
-    fs::remove_all(dir, ignored);
   }
 };
 

@@ -1,6 +1,8 @@
 #define BOOST_TEST_MODULE scene
 #include <boost/test/unit_test.hpp>
 
+#include "common/scratch.hpp"
+
 #include "solver/scene.hpp"
 
 #include <dgmpm/physics/finite_strain_bar.hpp>
@@ -65,7 +67,7 @@ void check_refused(const json& doc, const std::vector<std::string>& fragments) {
 }
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / name;
+  const auto path = dgmpm::test::scratch() / name;
   std::ofstream(path) << text;
   return path.string();
 }
@@ -789,29 +791,29 @@ BOOST_AUTO_TEST_CASE(load_refuses_unreadable_and_invalid_files) {
   std::string message = load_refusal("/nonexistent/scene.json");
   BOOST_TEST(message.find("/nonexistent/scene.json: cannot read the scene") == 0u);
 
-  const std::string dir = std::filesystem::temp_directory_path().string();
+  const std::string dir = dgmpm::test::scratch().string();
   message = load_refusal(dir);
   BOOST_TEST(message.find(dir + ": cannot read the scene") == 0u);
 
-  std::string path = write_temp("dgmpm_scene_syntax.json", "{\"dimension\": 1,, }");
+  std::string path = write_temp("syntax.json", "{\"dimension\": 1,, }");
   message = load_refusal(path);
   BOOST_TEST(message.find(path + ": invalid JSON (line 1, column 17): ") == 0u, message);
   BOOST_TEST(message.find("parse error") != std::string::npos, message);
 
-  path = write_temp("dgmpm_scene_overflow.json", "{\"dimension\": 1e999}");
+  path = write_temp("overflow.json", "{\"dimension\": 1e999}");
   message = load_refusal(path);
   BOOST_TEST(message.find(path + ": dimension: invalid JSON (line 1, column 15): ") == 0u, message);
   BOOST_TEST(message.find("1e999 is too large for a double") != std::string::npos, message);
 
-  path = write_temp("dgmpm_scene_duplicate.json",
+  path = write_temp("duplicate.json",
                     "{\"time\": {\"end\": 1}, \"bodies\": [{}, {\"box\": 1, \"box\": 2}]}");
   message = load_refusal(path);
   BOOST_TEST(message == path + ": bodies[1].box: duplicate key; allowed: each key once");
 
-  path = write_temp("dgmpm_scene_valid.json", base().dump(2));
+  path = write_temp("valid.json", base().dump(2));
   BOOST_CHECK_NO_THROW(load_scene(path));
   BOOST_TEST(load_scene(path).source == path);
-  path = write_temp("dgmpm_scene_refused.json", json::parse(R"({"dimension": 3})").dump());
+  path = write_temp("refused.json", json::parse(R"({"dimension": 3})").dump());
   message = load_refusal(path);
   BOOST_TEST(message.find(path + ": dimension: value 3") == 0u, message);
 }
