@@ -6,8 +6,9 @@
 // moved off the lattice), periodic grids, plastic flow, finite strain, DCU and CTU, Euler and
 // RK2, fixed and moving particles. The sharing must also be found where it applies: every full
 // cell of a regular lattice, and in the mixed scenes some cells but not all. Interior cells
-// (shared, with shared face neighbours) take DCU's interior path without face look-ups: with
-// sharing off no cell is interior, so the same comparison checks that path against the general one.
+// (shared, with shared face neighbours) take the interior path (DCU and CTU) without face look-ups
+// or boundary branches: with sharing off no cell is interior, so the same comparison checks that
+// path against the general one.
 #define BOOST_TEST_MODULE solver_shared_layout
 #include <boost/test/unit_test.hpp>
 
@@ -128,9 +129,12 @@ BOOST_AUTO_TEST_CASE(plates_step_the_same_with_and_without_shared_layouts) {
           }
         }
   for (const std::string integrator : {"euler", "rk2"})
-    mixed(check_same<FiniteStrainPlane<NeoHookean>>(test::finite(plate(integrator, "dcu", 1)), 15,
-                                                    false),
-          false);
+    for (const std::string flux : {"dcu", "ctu"})
+      BOOST_TEST_CONTEXT("finite strain, " << integrator << ", " << flux) {
+        mixed(check_same<FiniteStrainPlane<NeoHookean>>(test::finite(plate(integrator, flux, 1)),
+                                                        15, false),
+              false);
+      }
 }
 
 // A periodic lattice: every cell holds the reference cell's particles.
